@@ -1,0 +1,46 @@
+# Small helpers so each folder's CMakeLists.txt stays a list of files.
+
+# Warnings and sanitizers go on a private interface target, never on global flags.
+add_library(cslam_build_flags INTERFACE)
+target_compile_options(cslam_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wno-unused-parameter)
+if(CSLAM_SANITIZE STREQUAL "address")
+  target_compile_options(cslam_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer)
+  target_link_options(cslam_build_flags INTERFACE -fsanitize=address,undefined)
+elseif(CSLAM_SANITIZE STREQUAL "thread")
+  target_compile_options(cslam_build_flags INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
+  target_link_options(cslam_build_flags INTERFACE -fsanitize=thread)
+elseif(NOT CSLAM_SANITIZE STREQUAL "")
+  message(FATAL_ERROR "CSLAM_SANITIZE must be '', 'address' or 'thread', not '${CSLAM_SANITIZE}'")
+endif()
+
+# cslam_add_library(name SOURCES a.cc b.cc PUBLIC_DEPS x y PRIVATE_DEPS z)
+function(cslam_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS} cslam_build_flags)
+endfunction()
+
+# cslam_add_test(name SOURCES a_test.cc DEPS lib...) — one GoogleTest executable, tests discovered by ctest.
+function(cslam_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} cslam_test_support GTest::gtest GTest::gmock GTest::gtest_main cslam_build_flags)
+  target_compile_definitions(${name} PRIVATE CSLAM_SHARED_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
+  gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60 PROPERTIES ENVIRONMENT "CSLAM_SHARED_DATA=${PROJECT_SOURCE_DIR}/../shared/data")
+endfunction()
+
+# cslam_add_benchmark(name SOURCES a_benchmark.cc DEPS lib...) — added to the `bench` target.
+function(cslam_add_benchmark name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  if(NOT CSLAM_BUILD_BENCHMARKS)
+    return()
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark benchmark::benchmark_main cslam_build_flags)
+  target_compile_definitions(${name} PRIVATE CSLAM_SHARED_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
+  if(NOT TARGET bench)
+    add_custom_target(bench)
+  endif()
+  add_dependencies(bench ${name})
+endfunction()

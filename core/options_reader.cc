@@ -1,0 +1,119 @@
+#include "core/options_reader.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+
+#include "core/errors.h"
+
+namespace cslam {
+
+OptionsReader::OptionsReader(YAML::Node node, std::string source, std::string path)
+    : node_(std::move(node)), source_(std::move(source)), path_(std::move(path)) {
+  if (node_ && !node_.IsNull() && !node_.IsMap())
+    throw ConfigError(source_ + ": " + (path_.empty() ? "the document" : path_) +
+                      " must be a mapping of key: value");
+}
+
+OptionsReader OptionsReader::FromFile(const std::string& file) {
+  if (!std::filesystem::is_regular_file(file))
+    throw ConfigError(file + ": config file not found");
+  YAML::Node node;
+  try {
+    node = YAML::LoadFile(file);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  }
+  return OptionsReader(node, file);
+}
+
+OptionsReader OptionsReader::FromString(const std::string& text, const std::string& source) {
+  YAML::Node node;
+  try {
+    node = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) + ": not valid YAML: " + e.msg);
+  }
+  return OptionsReader(node, source);
+}
+
+std::string OptionsReader::Where(const std::string& key) const {
+  return source_ + ": " + (path_.empty() ? key : path_ + "." + key);
+}
+
+bool OptionsReader::Has(const std::string& key) const {
+  return node_ && node_.IsMap() && node_[key];
+}
+
+YAML::Node OptionsReader::Get(const std::string& key) {
+  read_keys_.push_back(key);
+  if (!Has(key)) return YAML::Node();
+  return node_[key];
+}
+
+namespace {
+template <typename T>
+void ReadScalar(const YAML::Node& n, const std::string& where, const char* type, T* value) {
+  if (!n.IsDefined() || n.IsNull()) return;
+  if (!n.IsScalar()) throw ConfigError(where + ": expected " + type);
+  try {
+    *value = n.as<T>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where + ": expected " + type + ", got '" + n.Scalar() + "'");
+  }
+}
+}  // namespace
+
+void OptionsReader::Read(const std::string& key, double* value) {
+  ReadScalar(Get(key), Where(key), "a number", value);
+}
+void OptionsReader::Read(const std::string& key, int* value) {
+  ReadScalar(Get(key), Where(key), "an integer", value);
+}
+void OptionsReader::Read(const std::string& key, bool* value) {
+  ReadScalar(Get(key), Where(key), "true or false", value);
+}
+void OptionsReader::Read(const std::string& key, std::string* value) {
+  ReadScalar(Get(key), Where(key), "a string", value);
+}
+void OptionsReader::Read(const std::string& key, std::vector<double>* value) {
+  const YAML::Node n = Get(key);
+  if (!n.IsDefined() || n.IsNull()) return;
+  if (!n.IsSequence()) throw ConfigError(Where(key) + ": expected a list of numbers");
+  std::vector<double> out;
+  for (const auto& item : n) {
+    double v = 0;
+    ReadScalar(item, Where(key), "a list of numbers", &v);
+    out.push_back(v);
+  }
+  *value = out;
+}
+
+OptionsReader OptionsReader::Section(const std::string& key) {
+  const YAML::Node n = Get(key);
+  return OptionsReader(n.IsDefined() ? n : YAML::Node(), source_, path_.empty() ? key : path_ + "." + key);
+}
+
+void OptionsReader::Finish() const {
+  if (!node_ || !node_.IsMap()) return;
+  std::vector<std::string> unknown;
+  for (const auto& kv : node_) {
+    const std::string k = kv.first.as<std::string>();
+    if (std::find(read_keys_.begin(), read_keys_.end(), k) == read_keys_.end())
+      unknown.push_back(k);
+  }
+  if (unknown.empty()) return;
+  std::ostringstream msg;
+  msg << "unknown key" << (unknown.size() > 1 ? "s" : "") << ":";
+  for (const auto& k : unknown) msg << " " << (path_.empty() ? k : path_ + "." + k);
+  throw ConfigError(source_ + ": " + msg.str());
+}
+
+void CheckOption(bool ok, const std::string& key, const std::string& rule, double value) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << key << ": " << rule << ", got " << value;
+  throw ConfigError(msg.str());
+}
+
+}  // namespace cslam

@@ -1,0 +1,127 @@
+#include "core/tracklet_table.h"
+
+#include <algorithm>
+
+#include "core/errors.h"
+
+namespace cslam {
+
+std::vector<FrameRange> SplitIntoChunks(int num_frames, int length, int overlap) {
+  CSLAM_CHECK(length > 0 && overlap >= 0 && overlap < length, "bad chunk length/overlap");
+  std::vector<FrameRange> chunks;
+  if (num_frames <= 0) return chunks;
+  const int stride = length - overlap;
+  for (int begin = 0;; begin += stride) {
+    const int end = std::min(begin + length, num_frames);
+    chunks.push_back({begin, end});
+    if (end >= num_frames) break;
+  }
+  // A short tail chunk carries almost no co-observations: merge it into the previous one.
+  if (chunks.size() >= 2 && chunks.back().size() < length / 2) {
+    chunks.pop_back();
+    chunks.back().end = num_frames;
+  }
+  return chunks;
+}
+
+int TrackletTable::NewLandmark() {
+  by_landmark_.emplace_back();
+  return num_landmarks() - 1;
+}
+
+bool TrackletTable::Add(int landmark, int frame, const Eigen::Vector3d& x,
+                        const Eigen::Matrix3d& cov) {
+  CSLAM_CHECK(landmark >= 0 && frame >= 0, "negative landmark or frame id");
+  if (landmark >= num_landmarks()) by_landmark_.resize(landmark + 1);
+  if (frame >= num_frames()) by_frame_.resize(frame + 1);
+  auto& obs = by_landmark_[landmark];
+  auto it = std::lower_bound(obs.begin(), obs.end(), frame,
+                             [](const StereoObservation& o, int f) { return o.frame < f; });
+  if (it != obs.end() && it->frame == frame) return false;
+  const bool append = it == obs.end();
+  obs.insert(it, StereoObservation{landmark, frame, x, cov});
+  if (!append) {
+    // Indices of later observations of this landmark shifted: fix their frame refs.
+    for (size_t i = 0; i < obs.size(); ++i) {
+      for (auto& ref : by_frame_[obs[i].frame])
+        if (ref.landmark == landmark) ref.index = static_cast<int>(i);
+    }
+  }
+  auto& refs = by_frame_[frame];
+  const ObservationRef ref{landmark, static_cast<int>(
+      std::find_if(obs.begin(), obs.end(), [&](const auto& o) { return o.frame == frame; }) -
+      obs.begin())};
+  auto pos = std::lower_bound(refs.begin(), refs.end(), landmark,
+                              [](const ObservationRef& r, int l) { return r.landmark < l; });
+  refs.insert(pos, ref);
+  ++num_observations_;
+  return true;
+}
+
+std::span<const StereoObservation> TrackletTable::ObservationsOf(int landmark) const {
+  CSLAM_CHECK(landmark >= 0 && landmark < num_landmarks(), "landmark id out of range");
+  return by_landmark_[landmark];
+}
+
+std::span<const StereoObservation> TrackletTable::ObservationsOf(int landmark,
+                                                                 FrameRange range) const {
+  const auto all = ObservationsOf(landmark);
+  auto lo = std::lower_bound(all.begin(), all.end(), range.begin,
+                             [](const StereoObservation& o, int f) { return o.frame < f; });
+  auto hi = std::lower_bound(lo, all.end(), range.end,
+                             [](const StereoObservation& o, int f) { return o.frame < f; });
+  return all.subspan(lo - all.begin(), hi - lo);
+}
+
+const std::vector<ObservationRef>& TrackletTable::ObservationsAt(int frame) const {
+  static const std::vector<ObservationRef> kEmpty;
+  if (frame < 0 || frame >= num_frames()) return kEmpty;
+  return by_frame_[frame];
+}
+
+std::vector<int> TrackletTable::LandmarksIn(FrameRange range, int min_observations) const {
+  std::vector<int> out;
+  const int begin = std::max(range.begin, 0), end = std::min(range.end, num_frames());
+  if (begin >= end) return out;
+  // Count per landmark through the per-frame index: cost is the window's size, not the table's.
+  std::vector<int> seen;
+  for (int f = begin; f < end; ++f)
+    for (const auto& ref : by_frame_[f]) seen.push_back(ref.landmark);
+  std::sort(seen.begin(), seen.end());
+  for (size_t i = 0; i < seen.size();) {
+    size_t j = i;
+    while (j < seen.size() && seen[j] == seen[i]) ++j;
+    if (static_cast<int>(j - i) >= min_observations) out.push_back(seen[i]);
+    i = j;
+  }
+  return out;
+}
+
+std::vector<int> TrackletTable::CoObservedFrames(int a, int b, FrameRange range) const {
+  const auto oa = ObservationsOf(a, range), ob = ObservationsOf(b, range);
+  std::vector<int> out;
+  size_t i = 0, j = 0;
+  while (i < oa.size() && j < ob.size()) {
+    if (oa[i].frame < ob[j].frame) {
+      ++i;
+    } else if (ob[j].frame < oa[i].frame) {
+      ++j;
+    } else {
+      out.push_back(oa[i].frame);
+      ++i;
+      ++j;
+    }
+  }
+  return out;
+}
+
+TrackletTable TrackletTable::Slice(FrameRange range) const {
+  TrackletTable out;
+  out.by_landmark_.resize(by_landmark_.size());
+  for (int l : LandmarksIn(range)) {
+    for (const auto& o : ObservationsOf(l, range)) out.Add(l, o.frame, o.x, o.cov);
+  }
+  return out;
+}
+
+}  // namespace cslam

@@ -1,0 +1,81 @@
+#pragma once
+// The seam between frontend (or synthetic generator) and backend: a sparse landmark × frame
+// table of stereo observations with per-observation pixel covariance.
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+namespace cslam {
+
+/// One stereo keypoint of a landmark in a frame: x = (uL, vL, uR) px, cov 3×3 px².
+struct StereoObservation {
+  int landmark = -1;
+  int frame = -1;
+  Eigen::Vector3d x = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+};
+
+/// Half-open frame interval [begin, end).
+struct FrameRange {
+  int begin = 0;
+  int end = 0;
+  int size() const { return end - begin; }
+  bool Contains(int frame) const { return frame >= begin && frame < end; }
+  bool operator==(const FrameRange&) const = default;
+};
+
+/// Chunks of `length` frames overlapping by `overlap` (stride length - overlap) covering
+/// [0, num_frames); the last chunk is cut at num_frames, and a last chunk shorter than
+/// the overlap (already covered) is not emitted. Precondition: 0 <= overlap < length.
+std::vector<FrameRange> SplitIntoChunks(int num_frames, int length, int overlap);
+
+/// Reference to an observation stored in the table.
+struct ObservationRef {
+  int landmark = -1;
+  int index = -1;  ///< position in ObservationsOf(landmark)
+};
+
+/// Sparse landmark × frame observation store. Landmark ids are dense (0..num_landmarks-1);
+/// each landmark's observations are kept sorted by frame, so windows are views, not copies.
+/// Iteration order is deterministic (by id, then by frame). Not thread-safe: the online
+/// system guards it.
+class TrackletTable {
+ public:
+  /// Adds an observation; creates landmark ids up to `landmark` as needed. Returns false (and
+  /// changes nothing) when the landmark already has an observation in that frame.
+  bool Add(int landmark, int frame, const Eigen::Vector3d& x, const Eigen::Matrix3d& cov);
+  /// A fresh landmark id (= num_landmarks() before the call).
+  int NewLandmark();
+
+  int num_landmarks() const { return static_cast<int>(by_landmark_.size()); }
+  /// One past the largest frame index seen.
+  int num_frames() const { return static_cast<int>(by_frame_.size()); }
+  size_t num_observations() const { return num_observations_; }
+
+  /// All observations of a landmark, sorted by frame.
+  std::span<const StereoObservation> ObservationsOf(int landmark) const;
+  /// The observations of a landmark inside `range`, sorted by frame.
+  std::span<const StereoObservation> ObservationsOf(int landmark, FrameRange range) const;
+  /// Observations in a frame, sorted by landmark id.
+  const std::vector<ObservationRef>& ObservationsAt(int frame) const;
+  const StereoObservation& Get(ObservationRef ref) const {
+    return by_landmark_[ref.landmark][ref.index];
+  }
+  /// Landmarks with at least `min_observations` observations inside `range`, ascending ids.
+  std::vector<int> LandmarksIn(FrameRange range, int min_observations = 1) const;
+  /// Frames (ascending) in `range` where both landmarks are observed.
+  std::vector<int> CoObservedFrames(int a, int b, FrameRange range) const;
+  std::vector<int> CoObservedFrames(int a, int b) const {
+    return CoObservedFrames(a, b, {0, num_frames()});
+  }
+  /// A copy holding only the observations inside `range` (same landmark ids), for handing a
+  /// window to another thread.
+  TrackletTable Slice(FrameRange range) const;
+
+ private:
+  std::vector<std::vector<StereoObservation>> by_landmark_;
+  std::vector<std::vector<ObservationRef>> by_frame_;
+  size_t num_observations_ = 0;
+};
+
+}  // namespace cslam

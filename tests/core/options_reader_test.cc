@@ -1,0 +1,76 @@
+#include "core/options_reader.h"
+
+#include <gtest/gtest.h>
+
+#include "core/errors.h"
+
+namespace cslam {
+namespace {
+
+std::string MessageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OptionsReader, ReadsTypedValuesAndNestedSections) {
+  auto r = OptionsReader::FromString("a: 1.5\nb: 3\nc: true\nd: hi\ne: [1, 2]\nsub: {x: 4}\n", "t.yaml");
+  double a = 0;
+  int b = 0;
+  bool c = false;
+  std::string d;
+  std::vector<double> e;
+  int x = 0, absent = 7;
+  r.Read("a", &a);
+  r.Read("b", &b);
+  r.Read("c", &c);
+  r.Read("d", &d);
+  r.Read("e", &e);
+  r.Read("absent", &absent);
+  auto sub = r.Section("sub");
+  sub.Read("x", &x);
+  EXPECT_NO_THROW(sub.Finish());
+  EXPECT_NO_THROW(r.Finish());
+  EXPECT_EQ(a, 1.5);
+  EXPECT_EQ(b, 3);
+  EXPECT_TRUE(c);
+  EXPECT_EQ(d, "hi");
+  EXPECT_EQ(e, (std::vector<double>{1, 2}));
+  EXPECT_EQ(x, 4);
+  EXPECT_EQ(absent, 7);
+}
+
+TEST(OptionsReader, UnknownKeyIsAnErrorNamingIt) {
+  auto r = OptionsReader::FromString("known: 1\nsub: {typo_key: 2}\n", "cfg.yaml");
+  int known = 0;
+  r.Read("known", &known);
+  auto sub = r.Section("sub");
+  const std::string msg = MessageOf([&] { sub.Finish(); });
+  EXPECT_NE(msg.find("cfg.yaml"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("sub.typo_key"), std::string::npos) << msg;
+}
+
+TEST(OptionsReader, WrongTypeNamesTheKey) {
+  auto r = OptionsReader::FromString("hac: {epsilon: lots}\n", "cfg.yaml");
+  auto hac = r.Section("hac");
+  double eps = 0;
+  const std::string msg = MessageOf([&] { hac.Read("epsilon", &eps); });
+  EXPECT_NE(msg.find("hac.epsilon"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("lots"), std::string::npos) << msg;
+}
+
+TEST(OptionsReader, MissingFileAndBadYamlAreConfigErrors) {
+  EXPECT_THROW(OptionsReader::FromFile("/nonexistent/x.yaml"), ConfigError);
+  EXPECT_THROW(OptionsReader::FromString("a: [1, 2\n", "bad.yaml"), ConfigError);
+}
+
+TEST(CheckOption, ExplainsTheRule) {
+  const std::string msg = MessageOf([] { CheckOption(false, "hac.epsilon", "must be > 0", -1); });
+  EXPECT_EQ(msg, "hac.epsilon: must be > 0, got -1");
+}
+
+}  // namespace
+}  // namespace cslam
