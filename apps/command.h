@@ -1,0 +1,19 @@
+#pragma once
+// Each subcommand lives in its own apps/<name>_command.cc: Add<Name>Command registers the
+// CLI11 subcommand and its flags and returns the function that runs it after parsing.
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <memory>
+
+namespace cslam::apps {
+
+/// A registered subcommand: `run` is called when `sub` was the one given; returns the exit code.
+struct Command {
+  CLI::App* sub = nullptr;
+  std::function<int()> run;
+};
+
+// One declaration per subcommand file, in the order `cslam --help` lists them.
+
+}  // namespace cslam::apps

@@ -1,0 +1,28 @@
+#pragma once
+// What every backend method (ClusterSLAM, Full BA, Progressive DCS) returns.
+#include <string>
+#include <vector>
+
+#include "backend/motion_estimation.h"
+
+namespace cslam {
+
+/// One outer-loop iteration of Algorithm 1 (spec §2), for logs and the benchmark tables.
+struct IterationDiagnostics {
+  int iteration = 0;
+  int num_clusters = 0;          ///< after consensus and the minimum-size rule
+  double vi_to_previous = 0.0;   ///< variation of information to the previous labelling
+  double chi2 = 0.0;
+  double clustering_ms = 0.0;    ///< motion distance + HAC + consensus
+  double estimation_ms = 0.0;    ///< shape initialisation + bundle adjustment
+};
+
+/// Result of one backend run over a frame range.
+struct BackendResult {
+  std::string method;            ///< "clusterslam", "full-ba", "pdcs"
+  MotionEstimate estimate;
+  std::vector<IterationDiagnostics> iterations;
+  double time_s = 0.0;           ///< wall time of the whole backend call
+};
+
+}  // namespace cslam

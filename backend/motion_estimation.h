@@ -1,0 +1,36 @@
+#pragma once
+// Given a labelling of landmarks into rigid clusters, estimate every cluster's shape and
+// trajectory and the camera's (clusterslam_spec.md §5 shape initialisation + §6 decoupled BA).
+// Frames: world = the camera frame at range.begin (the static cluster's frame, P⁰ ≡ I).
+#include <Eigen/Core>
+#include <vector>
+
+#include "core/rigid.h"
+#include "core/stereo_camera.h"
+#include "core/tracklet_table.h"
+
+namespace cslam {
+
+/// Trajectory of one moving cluster over the frames where it is observed.
+struct ClusterMotion {
+  int cluster = -1;                       ///< label (>= 1)
+  std::vector<int> frames;                ///< ascending absolute frame indices
+  std::vector<Pose> cam_from_cluster;     ///< T^{cq}_t, parallel to frames
+  std::vector<Pose> world_from_cluster;   ///< P^q_t = P^c_t T^{cq}_t, parallel to frames
+};
+
+/// Output of EstimateMotions and of every backend method.
+struct MotionEstimate {
+  FrameRange range;
+  std::vector<Pose> world_from_cam;                  ///< [frame - range.begin]
+  std::vector<int> landmark_cluster;                 ///< [landmark id]: -1 unused, 0 static, >0 moving
+  std::vector<Eigen::Vector3d> landmark_in_cluster;  ///< [landmark id]; NaN where unused
+  std::vector<ClusterMotion> clusters;               ///< moving clusters, ascending label
+  double chi2 = 0.0;         ///< Σ squared Mahalanobis reprojection error, no robust kernel
+  int num_residuals = 0;     ///< observations in chi2
+
+  /// The moving cluster with `label`, or nullptr.
+  const ClusterMotion* FindCluster(int label) const;
+};
+
+}  // namespace cslam
