@@ -37,6 +37,18 @@ OptionsReader OptionsReader::FromString(const std::string& text, const std::stri
   return OptionsReader(node, source);
 }
 
+OptionsReader OptionsReader::ForDump() {
+  OptionsReader r(YAML::Node(YAML::NodeType::Map), "effective configuration");
+  r.dumping_ = true;
+  return r;
+}
+
+std::string OptionsReader::Dump() const {
+  YAML::Emitter out;
+  out << node_;
+  return std::string(out.c_str()) + "\n";
+}
+
 std::string OptionsReader::Where(const std::string& key) const {
   return source_ + ": " + (path_.empty() ? key : path_ + "." + key);
 }
@@ -65,18 +77,41 @@ void ReadScalar(const YAML::Node& n, const std::string& where, const char* type,
 }  // namespace
 
 void OptionsReader::Read(const std::string& key, double* value) {
+  if (dumping_) {
+    node_[key] = *value;
+    return;
+  }
   ReadScalar(Get(key), Where(key), "a number", value);
 }
 void OptionsReader::Read(const std::string& key, int* value) {
+  if (dumping_) {
+    node_[key] = *value;
+    return;
+  }
   ReadScalar(Get(key), Where(key), "an integer", value);
 }
 void OptionsReader::Read(const std::string& key, bool* value) {
+  if (dumping_) {
+    node_[key] = *value;
+    return;
+  }
   ReadScalar(Get(key), Where(key), "true or false", value);
 }
 void OptionsReader::Read(const std::string& key, std::string* value) {
+  if (dumping_) {
+    node_[key] = *value;
+    return;
+  }
   ReadScalar(Get(key), Where(key), "a string", value);
 }
 void OptionsReader::Read(const std::string& key, std::vector<double>* value) {
+  if (dumping_) {
+    YAML::Node seq(YAML::NodeType::Sequence);
+    for (double v : *value) seq.push_back(v);
+    seq.SetStyle(YAML::EmitterStyle::Flow);
+    node_[key] = seq;
+    return;
+  }
   const YAML::Node n = Get(key);
   if (!n.IsDefined() || n.IsNull()) return;
   if (!n.IsSequence()) throw ConfigError(Where(key) + ": expected a list of numbers");
@@ -90,11 +125,18 @@ void OptionsReader::Read(const std::string& key, std::vector<double>* value) {
 }
 
 OptionsReader OptionsReader::Section(const std::string& key) {
+  if (dumping_) {
+    if (!node_[key]) node_[key] = YAML::Node(YAML::NodeType::Map);
+    OptionsReader child(node_[key], source_, path_.empty() ? key : path_ + "." + key);
+    child.dumping_ = true;
+    return child;
+  }
   const YAML::Node n = Get(key);
   return OptionsReader(n.IsDefined() ? n : YAML::Node(), source_, path_.empty() ? key : path_ + "." + key);
 }
 
 void OptionsReader::Finish() const {
+  if (dumping_) return;
   if (!node_ || !node_.IsMap()) return;
   std::vector<std::string> unknown;
   for (const auto& kv : node_) {

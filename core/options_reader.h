@@ -18,6 +18,12 @@ class OptionsReader {
   static OptionsReader FromFile(const std::string& file);
   /// Parses YAML text (for tests and embedded defaults).
   static OptionsReader FromString(const std::string& text, const std::string& source);
+  /// A reader in dump mode: every Read stores the current value instead of reading one, so
+  /// running an Options::Load on it records the effective configuration; Dump() returns it.
+  static OptionsReader ForDump();
+  /// The recorded configuration as YAML text (dump mode only).
+  std::string Dump() const;
+  bool dumping() const { return dumping_; }
 
   bool Has(const std::string& key) const;
   /// Each Read leaves `*value` unchanged when the key is absent, and throws ConfigError
@@ -41,6 +47,7 @@ class OptionsReader {
   std::string source_;
   std::string path_;
   std::vector<std::string> read_keys_;
+  bool dumping_ = false;
 };
 
 /// Throws ConfigError("<key>: <rule>, got <value>") unless `ok`. For Options::Check().

@@ -67,6 +67,45 @@ TEST(OptionsReader, MissingFileAndBadYamlAreConfigErrors) {
   EXPECT_THROW(OptionsReader::FromString("a: [1, 2\n", "bad.yaml"), ConfigError);
 }
 
+struct ToyOptions {
+  double epsilon = 90;
+  int chunk = 200;
+  std::string name = "outdoor";
+  std::vector<double> list = {1, 2};
+  bool flag = true;
+  void Load(OptionsReader& r) {
+    r.Read("epsilon", &epsilon);
+    auto sub = r.Section("chunking");
+    sub.Read("chunk", &chunk);
+    sub.Finish();
+    r.Read("name", &name);
+    r.Read("list", &list);
+    r.Read("flag", &flag);
+    r.Finish();
+  }
+};
+
+TEST(OptionsReader, DumpThenLoadReproducesTheEffectiveConfiguration) {
+  ToyOptions a;
+  a.epsilon = 60;
+  a.chunk = 100;
+  a.name = "indoor";
+  a.list = {3.5};
+  a.flag = false;
+  auto dump = OptionsReader::ForDump();
+  a.Load(dump);
+  const std::string text = dump.Dump();
+  EXPECT_NE(text.find("chunk: 100"), std::string::npos) << text;
+  ToyOptions b;
+  auto r = OptionsReader::FromString(text, "dump");
+  b.Load(r);
+  EXPECT_EQ(b.epsilon, 60);
+  EXPECT_EQ(b.chunk, 100);
+  EXPECT_EQ(b.name, "indoor");
+  EXPECT_EQ(b.list, (std::vector<double>{3.5}));
+  EXPECT_FALSE(b.flag);
+}
+
 TEST(CheckOption, ExplainsTheRule) {
   const std::string msg = MessageOf([] { CheckOption(false, "hac.epsilon", "must be > 0", -1); });
   EXPECT_EQ(msg, "hac.epsilon: must be > 0, got -1");
