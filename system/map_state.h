@@ -1,0 +1,89 @@
+#pragma once
+// The online system's map: one camera pose per frame, cluster ids that stay stable across
+// sliding windows, landmark positions in their cluster's frame and every cluster's trajectory
+// (clusterslam_spec.md §7). Each backend window is estimated in its own frame (world = the
+// camera at the window's first frame) with cluster frames of its own; Integrate() associates
+// its clusters with the map's by shared landmarks, aligns the frames and stitches the
+// trajectories. Frames: map world = the camera frame at the first integrated frame.
+// Not thread-safe: the backend thread owns it and publishes copies.
+#include <map>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "backend/motion_estimation.h"
+#include "core/options_reader.h"
+#include "core/rigid.h"
+
+namespace cslam {
+
+/// Options of the cross-window association and stitching.
+struct MapStateOptions {
+  /// A window cluster continues a map cluster when |shared landmarks| / |window cluster's
+  /// landmarks| reaches this ratio (spec §7: 70 %).
+  double association_overlap = 0.7;
+  /// Shared landmarks needed to align a window's cluster frame to the map's by Umeyama;
+  /// fewer falls back to a shared frame of the trajectories.
+  int min_shared_for_alignment = 4;
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// What one Integrate() call did, for the log.
+struct WindowIntegration {
+  FrameRange range;
+  int anchor_frame = -1;     ///< map frame the window was chained to (-1: first window or gap)
+  bool gap = false;          ///< the window shares no frame with the map: chained at the last pose
+  int associated = 0;        ///< window clusters that continued a map cluster
+  int created = 0;           ///< window clusters that started a new map cluster
+  std::vector<std::pair<int, int>> cluster_map;  ///< (window label, map id)
+};
+
+/// One cluster's trajectory in the map.
+struct MapCluster {
+  int id = -1;
+  std::map<int, Pose> world_from_cluster;  ///< frame → pose, ascending frames
+  int num_landmarks = 0;                   ///< landmarks currently assigned to it
+};
+
+/// Map state of the online system; see the file comment.
+class MapState {
+ public:
+  explicit MapState(MapStateOptions options = {});
+
+  WindowIntegration Integrate(const MotionEstimate& window);
+
+  /// Frames 0..num_frames()-1; frames never covered by a window have no pose.
+  int num_frames() const { return static_cast<int>(world_from_cam_.size()); }
+  const std::vector<std::optional<Pose>>& world_from_cam() const { return world_from_cam_; }
+  /// Moving clusters by id (static 0 is not listed).
+  const std::map<int, MapCluster>& clusters() const { return clusters_; }
+  /// Cluster of a landmark (-1 unknown).
+  int ClusterOf(int landmark) const;
+  /// Position of a landmark in its cluster's frame (world frame for static ones).
+  std::optional<Eigen::Vector3d> PositionInCluster(int landmark) const;
+  /// World position of a landmark at `frame` (for moving clusters, the cluster's pose then;
+  /// nullopt when the cluster has no pose at that frame).
+  std::optional<Eigen::Vector3d> WorldPosition(int landmark, int frame) const;
+  /// Landmark ids known to the map, ascending.
+  std::vector<int> Landmarks() const;
+  /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).
+  const std::vector<int>& gaps() const { return gaps_; }
+
+ private:
+  struct LandmarkState {
+    int cluster = -1;
+    Eigen::Vector3d p_in_cluster = Eigen::Vector3d::Zero();
+  };
+  void SetCameraPose(int frame, const Pose& world_from_cam);
+
+  MapStateOptions options_;
+  std::vector<std::optional<Pose>> world_from_cam_;
+  std::unordered_map<int, LandmarkState> landmarks_;
+  std::map<int, MapCluster> clusters_;
+  std::vector<int> gaps_;
+  int next_cluster_id_ = 1;
+};
+
+}  // namespace cslam

@@ -1,0 +1,155 @@
+#include "system/map_state.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tests/support/matchers.h"
+
+namespace cslam {
+namespace {
+
+// A ground-truth world: a camera driving forward and turning slowly, two objects with their
+// own motions, static landmarks and object landmarks fixed in their bodies.
+struct World {
+  std::vector<Pose> world_from_cam;
+  std::vector<std::vector<Pose>> world_from_object;  // [object 1..2 → index 0..1][frame]
+  std::vector<int> label;                            // 0 static, 1 or 2
+  std::vector<Eigen::Vector3d> p_in_object;          // world frame for static ones
+};
+
+Pose MakePose(double yaw, double x, double y, double z) {
+  Vector6d xi;
+  xi << 0, yaw, 0, x, y, z;
+  return PoseFromVector(xi);
+}
+
+World MakeWorld(int frames) {
+  World w;
+  for (int f = 0; f < frames; ++f) w.world_from_cam.push_back(MakePose(0.01 * f, 0.05 * f, 0, 1.0 * f));
+  w.world_from_object.resize(2);
+  for (int f = 0; f < frames; ++f) {
+    w.world_from_object[0].push_back(MakePose(0.02 * f, 3 + 0.1 * f, 0, 10 + 1.5 * f));
+    w.world_from_object[1].push_back(MakePose(-0.03 * f, -4 + 0.3 * f, 0, 20 - 0.5 * f));
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 60; ++i) {
+    w.label.push_back(i < 30 ? 0 : (i < 45 ? 1 : 2));
+    w.p_in_object.emplace_back(u(rng) * (i < 30 ? 10 : 1), u(rng), u(rng) * (i < 30 ? 10 : 2) + (i < 30 ? 30 : 0));
+  }
+  return w;
+}
+
+// What a perfect backend returns for a window: world = camera at range.begin, each cluster's
+// frame = an arbitrary per-window offset of the true body frame, labels permuted per window.
+MotionEstimate PerfectWindow(const World& w, FrameRange range, const std::map<int, int>& relabel) {
+  MotionEstimate e;
+  e.range = range;
+  const Pose window_from_world = w.world_from_cam[range.begin].inverse();
+  for (int f = range.begin; f < range.end; ++f)
+    e.world_from_cam.push_back(window_from_world * w.world_from_cam[f]);
+  e.landmark_cluster.assign(w.label.size(), -1);
+  e.landmark_in_cluster.assign(w.label.size(), Eigen::Vector3d::Constant(NAN));
+  std::vector<Pose> offset(3);
+  for (int obj = 1; obj <= 2; ++obj) offset[obj] = MakePose(0.3 * obj + 0.01 * range.begin, obj, -obj, 0.5);
+  for (size_t l = 0; l < w.label.size(); ++l) {
+    const int obj = w.label[l];
+    e.landmark_cluster[l] = obj == 0 ? 0 : relabel.at(obj);
+    e.landmark_in_cluster[l] =
+        obj == 0 ? Eigen::Vector3d(window_from_world * w.p_in_object[l])
+                 : Eigen::Vector3d(offset[obj].inverse() * w.p_in_object[l]);
+  }
+  for (int obj = 1; obj <= 2; ++obj) {
+    ClusterMotion m;
+    m.cluster = relabel.at(obj);
+    for (int f = range.begin; f < range.end; ++f) {
+      m.frames.push_back(f);
+      const Pose world_from_cluster = window_from_world * w.world_from_object[obj - 1][f] * offset[obj];
+      m.world_from_cluster.push_back(world_from_cluster);
+      m.cam_from_cluster.push_back(e.world_from_cam[f - range.begin].inverse() * world_from_cluster);
+    }
+    e.clusters.push_back(m);
+  }
+  std::sort(e.clusters.begin(), e.clusters.end(),
+            [](const ClusterMotion& a, const ClusterMotion& b) { return a.cluster < b.cluster; });
+  return e;
+}
+
+TEST(MapState, StitchesPerfectWindowsIntoTheTrueTrajectories) {
+  const World w = MakeWorld(60);
+  MapState map;
+  int k = 0;
+  for (int begin = 0; begin + 30 <= 60; begin += 5, ++k) {
+    // Window labels swap every other window: the map ids must not.
+    const std::map<int, int> relabel = (k % 2) ? std::map<int, int>{{1, 2}, {2, 1}}
+                                               : std::map<int, int>{{1, 1}, {2, 2}};
+    const WindowIntegration info = map.Integrate(PerfectWindow(w, {begin, begin + 30}, relabel));
+    if (k == 0) {
+      EXPECT_EQ(info.created, 2);
+    } else {
+      EXPECT_EQ(info.created, 0);
+      EXPECT_EQ(info.associated, 2);
+      EXPECT_FALSE(info.gap);
+    }
+  }
+  ASSERT_EQ(map.num_frames(), 60);
+  for (int f = 0; f < 60; ++f) {
+    ASSERT_TRUE(map.world_from_cam()[f].has_value());
+    EXPECT_TRUE(testing::PoseNear(*map.world_from_cam()[f], w.world_from_cam[f], 1e-9, 1e-9)) << f;
+  }
+  ASSERT_EQ(map.clusters().size(), 2u);
+  // Each map cluster follows one true object up to a constant body-frame offset.
+  for (const auto& [id, cluster] : map.clusters()) {
+    ASSERT_EQ(cluster.world_from_cluster.size(), 60u);
+    const int landmark = id == 1 ? 30 : 45;  // window 0 labelled object 1 → id 1
+    const int obj = w.label[landmark];
+    const Pose offset = w.world_from_object[obj - 1][0].inverse() * cluster.world_from_cluster.at(0);
+    for (const auto& [f, pose] : cluster.world_from_cluster)
+      EXPECT_TRUE(testing::PoseNear(pose, w.world_from_object[obj - 1][f] * offset, 1e-9, 1e-9));
+  }
+  for (size_t l = 0; l < w.label.size(); ++l) {
+    const auto p = map.WorldPosition(static_cast<int>(l), 42);
+    ASSERT_TRUE(p.has_value());
+    const Eigen::Vector3d truth = w.label[l] == 0 ? w.p_in_object[l]
+                                                  : w.world_from_object[w.label[l] - 1][42] * w.p_in_object[l];
+    EXPECT_TRUE(testing::MatrixNear(*p, truth, 1e-9));
+  }
+  EXPECT_EQ(map.ClusterOf(30), map.ClusterOf(44));
+  EXPECT_NE(map.ClusterOf(30), map.ClusterOf(45));
+  EXPECT_EQ(map.ClusterOf(0), 0);
+}
+
+TEST(MapState, AClusterWithTooLittleOverlapStartsANewId) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Second window: object 1's landmarks are re-identified under new ids (a new track set).
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
+  const size_t n = e.landmark_cluster.size();
+  for (size_t l = 0; l < n; ++l) {
+    if (w.label[l] != 1) continue;
+    e.landmark_cluster.push_back(e.landmark_cluster[l]);
+    e.landmark_in_cluster.push_back(e.landmark_in_cluster[l]);
+    e.landmark_cluster[l] = -1;
+  }
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 1);
+  EXPECT_EQ(info.associated, 1);
+  EXPECT_EQ(map.clusters().size(), 3u);
+}
+
+TEST(MapState, AWindowWithoutSharedFramesIsMarkedAsAGap) {
+  const World w = MakeWorld(80);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  const WindowIntegration info = map.Integrate(PerfectWindow(w, {40, 70}, {{1, 1}, {2, 2}}));
+  EXPECT_TRUE(info.gap);
+  ASSERT_EQ(map.gaps().size(), 1u);
+  EXPECT_EQ(map.gaps()[0], 40);
+  EXPECT_FALSE(map.world_from_cam()[35].has_value());
+  EXPECT_TRUE(map.world_from_cam()[69].has_value());
+}
+
+}  // namespace
+}  // namespace cslam
