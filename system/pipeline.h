@@ -1,0 +1,63 @@
+#pragma once
+// The two ways of running the whole system over an input (docs/architecture.md):
+//  - batch: the frontend over every frame, then one backend call over the whole sequence;
+//  - online: reader → frontend → backend windows → map, each stage on its own thread with
+//    bounded queues (or all in one thread, in order, with OnlineOptions::sequential).
+// Both end in a MapState, so outputs, metrics and renders are written the same way.
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "backend/backend_result.h"
+#include "core/tracklet_table.h"
+#include "frontend/stereo_frontend.h"
+#include "system/map_state.h"
+#include "system/pipeline_options.h"
+#include "system/run_input.h"
+
+namespace cslam {
+
+/// One backend window of the online system (or the single batch call).
+struct WindowStats {
+  FrameRange range;
+  double backend_ms = 0.0;    ///< RunClusterSlam / baseline wall time
+  double integrate_ms = 0.0;  ///< association + stitching
+  int clusters = 0;           ///< moving clusters found in the window
+  bool failed = false;        ///< discarded (solver failure, non-finite poses, too few landmarks)
+  WindowIntegration integration;
+};
+
+/// Everything a run produced.
+struct PipelineResult {
+  MapState map;
+  TrackletTable table;
+  std::vector<FrameSummary> frontend_frames;  ///< empty when tracklets were given
+  std::vector<WindowStats> windows;
+  std::optional<BackendResult> batch;         ///< the batch backend call (batch mode only)
+  int frames_processed = 0;
+  int windows_skipped = 0;   ///< real-time mode: windows dropped because the backend lagged
+  bool interrupted = false;  ///< stopped by a stop request before the end of the input
+  double total_s = 0.0;
+  double read_ms_per_frame = 0.0;
+  /// A failure part-way (e.g. a corrupt image): the run stopped there; everything above is
+  /// what was estimated before it. The caller writes the outputs, then rethrows.
+  std::exception_ptr error;
+};
+
+/// Called after each frame with (frames done, frames total); for progress bars.
+using ProgressCallback = std::function<void(int, int)>;
+
+/// Runs the system over `input` in options.mode. `stop` (may be null) is polled; when it
+/// becomes true the run winds down and returns what was estimated so far.
+PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options,
+                           const std::atomic<bool>* stop = nullptr,
+                           const ProgressCallback& progress = {});
+
+/// The backend method named in options over `range` of `table` (no threads of its own).
+BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
+                         const PipelineOptions& options);
+
+}  // namespace cslam

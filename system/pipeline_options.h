@@ -1,0 +1,64 @@
+#pragma once
+// Every option of a `cslam run`, in one tree that mirrors the YAML configs in configs/:
+//   preset, method, ablation, mode, input{}, frontend{}, backend{}, online{}, map{}, output{}.
+// Defaults come from the preset (indoor / outdoor backend parameters), then the YAML file,
+// then command-line flags; the effective tree is saved beside the outputs (config.yaml).
+#include <string>
+
+#include "backend/clusterslam.h"
+#include "core/options_reader.h"
+#include "frontend/stereo_frontend.h"
+#include "system/map_state.h"
+#include "system/run_input.h"
+
+namespace cslam {
+
+/// The online (sliding-window) system's scheduling (clusterslam_spec.md §7).
+struct OnlineOptions {
+  int window_frames = 30;   ///< frames per backend window (paper: 30)
+  int window_every = 5;     ///< a window is due every this many frames
+  int frame_queue = 4;      ///< decoded frames buffered between reader and frontend
+  int window_queue = 2;     ///< windows buffered between frontend and backend
+  bool realtime = false;    ///< pace input by timestamps; skip windows when the backend lags
+  bool sequential = false;  ///< run every stage in one thread, in order (deterministic)
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// What is written besides the trajectories.
+struct OutputOptions {
+  int snapshots_every = 0;     ///< render/snapshot_NNNNNN.png every N frames; 0 = none
+  int overlays_every = 0;      ///< render/overlay_NNNNNN.png every N frames; 0 = none
+  bool dense_snapshots = false;  ///< snapshots also show SGBM points clustered by landmark
+  bool trajectory_plot = true;   ///< render/trajectory.png
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// All options of one run; see the file comment.
+struct PipelineOptions {
+  std::string preset = "outdoor";      ///< indoor | outdoor: backend parameters (ε, chunks)
+  std::string method = "clusterslam";  ///< clusterslam | full-ba | pdcs
+  std::string ablation = "none";       ///< none | no-u | no-i | p2p-icp
+  std::string mode = "online";         ///< online | batch
+  InputOptions input;
+  FrontendOptions frontend;
+  ClusterSlamOptions backend = ClusterSlamOptions::Outdoor();
+  OnlineOptions online;
+  MapStateOptions map;
+  OutputOptions output;
+
+  void Check() const;
+  /// Reads a YAML tree; `preset` is read first so the backend section overrides its values.
+  void Load(OptionsReader& r);
+  /// The effective configuration as YAML.
+  std::string ToYaml() const;
+  /// Applies `preset` (resets the backend options to that preset's values) and `ablation`.
+  void ApplyPreset(const std::string& preset_name);
+  void ApplyAblation(const std::string& ablation_name);
+};
+
+/// Defaults for a preset, optionally overridden by a YAML file ("" = none).
+PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file);
+
+}  // namespace cslam
