@@ -2,7 +2,7 @@
 
 # Warnings and sanitizers go on a private interface target, never on global flags.
 add_library(cslam_build_flags INTERFACE)
-target_compile_options(cslam_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wno-unused-parameter)
+target_compile_options(cslam_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wno-unused-parameter -Wno-deprecated-enum-enum-conversion)
 if(CSLAM_SANITIZE STREQUAL "address")
   target_compile_options(cslam_build_flags INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer)
   target_link_options(cslam_build_flags INTERFACE -fsanitize=address,undefined)
