@@ -1,0 +1,61 @@
+// `cslam run INPUT`: the whole system over a KITTI raw drive, a KITTI odometry sequence or a
+// synthetic sequence, writing every output of docs/architecture.md into --out.
+#include <spdlog/sinks/basic_file_sink.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+#include "apps/command.h"
+#include "apps/run_support.h"
+#include "core/errors.h"
+#include "core/logging.h"
+#include "system/pipeline.h"
+#include "system/run_input.h"
+#include "system/run_metrics.h"
+#include "system/run_writer.h"
+
+namespace cslam::apps {
+
+namespace {
+
+struct RunArgs {
+  std::string input;
+  std::string out;
+  RunFlags flags;
+};
+
+int Run(const RunArgs& args) {
+  auto log = GetLogger("app");
+  RunInput input = OpenRunInput(args.input, args.flags.InputOptionsFor());
+  PipelineOptions options = args.flags.Resolve(input);
+  const std::string out = args.out.empty() ? "out/" + input.name : args.out;
+  // The output folder is created only once the input and the configuration are known good.
+  PrepareOutputFolder(out);
+  AttachLogFile(out + "/run.log");
+  log->info("{} ({}, {} frames) → {}", input.path, input.kind, input.num_frames(), out);
+  log->info("effective configuration:\n{}", options.ToYaml());
+
+  StopFlag stop;
+  ProgressBar bar("frames", args.flags.progress);
+  PipelineResult result =
+      RunPipeline(input, options, stop.flag(), [&](int done, int total) { bar.Update(done, total); });
+  bar.Finish();
+  return FinishRun(input, result, options, out, stop);
+}
+
+}  // namespace
+
+Command AddRunCommand(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "run", "Run the system over a KITTI raw drive, a KITTI odometry sequence or a synthetic "
+             "sequence folder");
+  sub->add_option("input", args->input, "input folder")->required();
+  sub->add_option("--out", args->out, "output folder (default: out/<sequence name>)");
+  args->flags.Register(sub);
+  return {sub, [args] { return Run(*args); }};
+}
+
+}  // namespace cslam::apps

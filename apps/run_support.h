@@ -1,0 +1,71 @@
+#pragma once
+// Shared plumbing of the commands that run the system (run, demo, bench): the common flags,
+// output folder checks, the log file, Ctrl-C handling, a progress bar, and the end of a run.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <string>
+
+#include "system/pipeline.h"
+#include "system/pipeline_options.h"
+#include "system/run_input.h"
+
+namespace cslam::apps {
+
+/// Flags shared by `run` and `demo`; each overrides the same field of PipelineOptions.
+struct RunFlags {
+  std::string config;       ///< YAML file ("" = built-in defaults)
+  std::string preset;       ///< indoor | outdoor ("" = from the input kind)
+  std::string method;       ///< clusterslam | full-ba | pdcs
+  std::string ablation;     ///< none | no-u | no-i | p2p-icp
+  std::string mode;         ///< online | batch
+  bool realtime = false;
+  bool sequential = false;
+  int snapshots_every = -1;
+  int overlays_every = -1;
+  int max_frames = 0;
+  std::string cameras = "grey";
+  bool progress = true;
+
+  void Register(CLI::App* sub);
+  InputOptions InputOptionsFor() const;
+  /// Defaults for the input's kind, then --config, then the flags. Throws ConfigError.
+  PipelineOptions Resolve(const RunInput& input) const;
+};
+
+/// Creates `out` and checks it is writable; throws OutputError naming it otherwise.
+void PrepareOutputFolder(const std::string& out);
+/// Adds a file sink to every logger (existing and future).
+void AttachLogFile(const std::string& path);
+
+/// Installs SIGINT/SIGTERM handlers for its lifetime; the first signal asks the run to stop
+/// (outputs are still written), a second one ends the process at once.
+class StopFlag {
+ public:
+  StopFlag();
+  ~StopFlag();
+  const std::atomic<bool>* flag() const;
+  /// 0, SIGINT or SIGTERM.
+  int signal() const;
+};
+
+/// A one-line progress bar on stderr (only when stderr is a terminal).
+class ProgressBar {
+ public:
+  ProgressBar(std::string what, bool enabled);
+  void Update(int done, int total);
+  void Finish();
+
+ private:
+  std::string what_;
+  bool enabled_;
+  int last_percent_ = -1;
+};
+
+/// Computes metrics (when there is ground truth), writes every output, prints a summary and
+/// returns the exit code: the pipeline's error is rethrown after the outputs are written;
+/// 130/143 after SIGINT/SIGTERM.
+int FinishRun(const RunInput& input, const PipelineResult& result, const PipelineOptions& options,
+              const std::string& out, const StopFlag& stop);
+
+}  // namespace cslam::apps
