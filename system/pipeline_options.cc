@@ -1,0 +1,117 @@
+#include "system/pipeline_options.h"
+
+#include "core/errors.h"
+
+namespace cslam {
+
+void OnlineOptions::Check() const {
+  CheckOption(window_frames >= 5, "online.window_frames", "must be at least 5 frames", window_frames);
+  CheckOption(window_every >= 1 && window_every <= window_frames - 2, "online.window_every",
+              "must be in [1, window_frames - 2] so consecutive windows share frames", window_every);
+  CheckOption(frame_queue >= 1, "online.frame_queue", "must be >= 1", frame_queue);
+  CheckOption(window_queue >= 1, "online.window_queue", "must be >= 1", window_queue);
+}
+
+void OnlineOptions::Load(OptionsReader& r) {
+  r.Read("window_frames", &window_frames);
+  r.Read("window_every", &window_every);
+  r.Read("frame_queue", &frame_queue);
+  r.Read("window_queue", &window_queue);
+  r.Read("realtime", &realtime);
+  r.Read("sequential", &sequential);
+  r.Finish();
+}
+
+void OutputOptions::Check() const {
+  CheckOption(snapshots_every >= 0, "output.snapshots_every", "must be >= 0 (0 = off)", snapshots_every);
+  CheckOption(overlays_every >= 0, "output.overlays_every", "must be >= 0 (0 = off)", overlays_every);
+}
+
+void OutputOptions::Load(OptionsReader& r) {
+  r.Read("snapshots_every", &snapshots_every);
+  r.Read("overlays_every", &overlays_every);
+  r.Read("dense_snapshots", &dense_snapshots);
+  r.Read("trajectory_plot", &trajectory_plot);
+  r.Finish();
+}
+
+namespace {
+void CheckMember(const std::string& key, const std::string& value,
+                 std::initializer_list<const char*> allowed) {
+  std::string list;
+  for (const char* a : allowed) {
+    if (value == a) return;
+    list += std::string(list.empty() ? "" : ", ") + a;
+  }
+  throw ConfigError(key + ": must be one of " + list + ", got '" + value + "'");
+}
+}  // namespace
+
+void PipelineOptions::Check() const {
+  CheckMember("preset", preset, {"indoor", "outdoor"});
+  CheckMember("method", method, {"clusterslam", "full-ba", "pdcs"});
+  CheckMember("ablation", ablation, {"none", "no-u", "no-i", "p2p-icp"});
+  CheckMember("mode", mode, {"online", "batch"});
+  input.Check();
+  frontend.Check();
+  backend.Check();
+  online.Check();
+  map.Check();
+  output.Check();
+}
+
+void PipelineOptions::ApplyPreset(const std::string& preset_name) {
+  CheckMember("preset", preset_name, {"indoor", "outdoor"});
+  preset = preset_name;
+  backend = preset == "indoor" ? ClusterSlamOptions::Indoor() : ClusterSlamOptions::Outdoor();
+  ApplyAblation(ablation);
+}
+
+void PipelineOptions::ApplyAblation(const std::string& ablation_name) {
+  CheckMember("ablation", ablation_name, {"none", "no-u", "no-i", "p2p-icp"});
+  ablation = ablation_name;
+  backend.SetAblation(ablation);
+}
+
+void PipelineOptions::Load(OptionsReader& r) {
+  std::string p = preset;
+  r.Read("preset", &p);
+  if (!r.dumping() && p != preset) ApplyPreset(p);
+  r.Read("method", &method);
+  std::string a = ablation;
+  r.Read("ablation", &a);
+  if (!r.dumping() && a != ablation) ApplyAblation(a);
+  r.Read("mode", &mode);
+  auto in = r.Section("input");
+  input.Load(in);
+  auto fe = r.Section("frontend");
+  frontend.Load(fe);
+  auto be = r.Section("backend");
+  backend.Load(be);
+  auto on = r.Section("online");
+  online.Load(on);
+  auto mp = r.Section("map");
+  map.Load(mp);
+  auto outp = r.Section("output");
+  output.Load(outp);
+  r.Finish();
+}
+
+std::string PipelineOptions::ToYaml() const {
+  auto dump = OptionsReader::ForDump();
+  const_cast<PipelineOptions*>(this)->Load(dump);  // dump mode only reads fields out
+  return dump.Dump();
+}
+
+PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file) {
+  PipelineOptions o;
+  o.ApplyPreset(preset);
+  if (!config_file.empty()) {
+    auto r = OptionsReader::FromFile(config_file);
+    o.Load(r);
+  }
+  o.Check();
+  return o;
+}
+
+}  // namespace cslam
