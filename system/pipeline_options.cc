@@ -99,7 +99,8 @@ void PipelineOptions::Load(OptionsReader& r) {
 
 std::string PipelineOptions::ToYaml() const {
   auto dump = OptionsReader::ForDump();
-  const_cast<PipelineOptions*>(this)->Load(dump);  // dump mode only reads fields out
+  PipelineOptions copy = *this;  // Load in dump mode only reads the fields out
+  copy.Load(dump);
   return dump.Dump();
 }
 
