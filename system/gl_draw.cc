@@ -45,7 +45,11 @@ void BeginFrame(const cv::Vec3b& background_rgb, bool depth_test) {
   glEnable(GL_POINT_SMOOTH);
   glHint(GL_LINE_SMOOTH_HINT, GL_NICEST);
   glHint(GL_POINT_SMOOTH_HINT, GL_NICEST);
-  if (depth_test) {
+  EnableDepthTest(depth_test);
+}
+
+void EnableDepthTest(bool enable) {
+  if (enable) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LEQUAL);
   } else {

@@ -13,6 +13,9 @@ namespace cslam::gl {
 /// Clears to `background_rgb` and enables blending, smoothing and (optionally) depth testing.
 void BeginFrame(const cv::Vec3b& background_rgb, bool depth_test);
 
+/// Turns depth testing on or off for what is drawn next.
+void EnableDepthTest(bool enable);
+
 /// Sets up a 2-D pixel coordinate system: x right, y down, (u, v) = centre of pixel (u, v)
 /// after read-back. Depth testing is disabled.
 void UsePixelCoordinates(int width, int height);
