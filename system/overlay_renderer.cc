@@ -10,7 +10,7 @@
 namespace cslam {
 namespace {
 
-constexpr int kTrailThicknessPx = 1;
+constexpr int kTrailThicknessPx = 2;
 constexpr int kDotRadiusPx = 3;
 constexpr int kSubpixelBits = 4;  // cv drawing with 1/16 px precision
 constexpr double kSubpixelScale = 1 << kSubpixelBits;

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "core/errors.h"
 #include "system/cluster_colors.h"
 #include "tests/system/image_test_util.h"
@@ -37,6 +41,34 @@ TEST(OverlayRenderer, MovingClustersAreDrawnOverStaticOnes) {
   // Listed moving first, static second, at the same place: the moving colour must win.
   const cv::Mat image = RenderOverlay(grey, {{3, {{20, 20}}}, {0, {{20, 20}}}});
   EXPECT_TRUE(ColourNear(image, {20, 20}, BgrForCluster(3), 0, 10));
+}
+
+// A real KITTI frame with corners as tracks: those in the middle band are "cluster 1" with a
+// trail drifting left, the rest static.
+TEST(OverlayRenderer, KittiFrameWithClusteredCorners) {
+  const char* env = std::getenv("CSLAM_SHARED_DATA");  // overrides the build-time path
+  const std::string file = std::string(env ? env : CSLAM_SHARED_DATA_DIR) +
+                           "/kitti_raw/2011_09_26/2011_09_26_drive_0005_sync/image_00/data/"
+                           "0000000010.png";
+  const cv::Mat grey = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  if (grey.empty()) GTEST_SKIP() << "KITTI raw frame not found: " << file;
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(grey, corners, 300, 0.01, 12);
+  ASSERT_GT(corners.size(), 100u);
+  std::vector<OverlayTrack> tracks;
+  for (const auto& c : corners) {
+    OverlayTrack t;
+    t.cluster = (c.x > 500 && c.x < 750) ? 1 : 0;
+    for (int k = 4; k >= 0; --k) t.trail.emplace_back(c.x + (t.cluster == 1 ? 4.0 : 1.5) * k, c.y);
+    tracks.push_back(t);
+  }
+  const cv::Mat image = RenderOverlay(grey, tracks);
+  testing::MaybeSave(image, "overlay_kitti.png");
+  for (const auto& t : tracks) {
+    if (t.cluster == 1) {
+      EXPECT_TRUE(ColourNear(image, t.trail.back(), BgrForCluster(1), 0, 10));
+    }
+  }
 }
 
 TEST(OverlayRenderer, RejectsAnEmptyImage) {

@@ -109,6 +109,25 @@ TEST(SnapshotRenderer, DrawsRecentTrajectories) {
   }
 }
 
+TEST(SnapshotRenderer, OptionsLoadEveryKeyFromYaml) {
+  OptionsReader reader = OptionsReader::FromString(
+      "width: 800\nheight: 500\nhorizontal_fov_deg: 60\nback_m: 3\nup_m: 2\n"
+      "look_ahead_m: 9\nfar_m: 90\nlandmark_size_px: 4\ndense_point_size_px: 1.5\n"
+      "frustum_depth_m: 1\nground_below_m: 0\ngrid_step_m: 2\ngrid_extent_m: 20\n"
+      "supersampling: 3\ndense: {num_disparities: 64, block_size: 7, min_depth_m: 2,\n"
+      "  max_depth_m: 25, voxel_size_m: 0.1, max_assign_distance_m: 1}\n",
+      "test.yaml");
+  SnapshotOptions options;
+  options.Load(reader);
+  EXPECT_NO_THROW(reader.Finish());
+  EXPECT_NO_THROW(options.Check());
+  EXPECT_EQ(options.width, 800);
+  EXPECT_EQ(options.supersampling, 3);
+  EXPECT_DOUBLE_EQ(options.dense_point_size_px, 1.5);
+  EXPECT_EQ(options.dense.block_size, 7);
+  EXPECT_DOUBLE_EQ(options.dense.max_assign_distance_m, 1.0);
+}
+
 TEST(SnapshotRenderer, BadOptionsAreConfigErrors) {
   SnapshotOptions options;
   options.horizontal_fov_deg = 0;
