@@ -12,6 +12,9 @@ namespace {
 
 constexpr int kTrailThicknessPx = 2;
 constexpr int kDotRadiusPx = 3;
+// A dark ring keeps grey (static) dots visible on a grey image.
+constexpr int kOutlinePx = 1;
+const cv::Scalar kOutlineBgr(20, 20, 20);
 constexpr int kSubpixelBits = 4;  // cv drawing with 1/16 px precision
 constexpr double kSubpixelScale = 1 << kSubpixelBits;
 
@@ -57,6 +60,8 @@ cv::Mat RenderOverlay(const cv::Mat& left_grey, const std::vector<OverlayTrack>&
     }
     const Eigen::Vector2d& now = t->trail.back();
     if (!now.allFinite()) continue;
+    cv::circle(image, Fixed(now), (kDotRadiusPx + kOutlinePx) << kSubpixelBits, kOutlineBgr,
+               cv::FILLED, cv::LINE_AA, kSubpixelBits);
     cv::circle(image, Fixed(now), kDotRadiusPx << kSubpixelBits, colour, cv::FILLED, cv::LINE_AA,
                kSubpixelBits);
   }

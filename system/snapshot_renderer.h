@@ -17,9 +17,9 @@ namespace cslam {
 struct SnapshotOptions {
   int width = 1280, height = 720;     ///< picture size, px
   double horizontal_fov_deg = 80.0;   ///< field of view of the virtual camera, degrees, (0, 170)
-  double back_m = 12.0;               ///< viewpoint distance behind the camera, metres, >= 0
-  double up_m = 6.0;                  ///< viewpoint height above the camera, metres
-  double look_ahead_m = 15.0;         ///< the view aims at this point ahead of the camera, metres, > 0
+  double back_m = 10.0;               ///< viewpoint distance behind the camera, metres, >= 0
+  double up_m = 8.0;                  ///< viewpoint height above the camera, metres
+  double look_ahead_m = 12.0;         ///< the view aims at this point ahead of the camera, metres, > 0
   double far_m = 200.0;               ///< nothing farther from the viewpoint is drawn, metres
   double landmark_size_px = 6.0;      ///< diameter of a landmark dot, px, > 0
   double dense_point_size_px = 2.0;   ///< diameter of a dense stereo point, px, > 0
