@@ -1,5 +1,6 @@
 #include "system/image_io.h"
 
+#include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <vector>
 
@@ -22,6 +23,13 @@ void WritePng(const cv::Mat& image, const std::string& path) {
     out.write(reinterpret_cast<const char*>(bytes.data()),
               static_cast<std::streamsize>(bytes.size()));
   });
+}
+
+std::string FrameImageName(const std::string& prefix, int frame) {
+  CSLAM_CHECK(frame >= 0, "frame index must not be negative");
+  char digits[16];
+  std::snprintf(digits, sizeof(digits), "%06d", frame);
+  return prefix + "_" + digits + ".png";
 }
 
 }  // namespace cslam

@@ -10,4 +10,8 @@ namespace cslam {
 /// cannot be encoded or the file cannot be written.
 void WritePng(const cv::Mat& image, const std::string& path);
 
+/// "<prefix>_NNNNNN.png" with the frame index zero-padded to six digits (render/ file names:
+/// snapshot_000042.png, overlay_000042.png). Precondition: frame >= 0.
+std::string FrameImageName(const std::string& prefix, int frame);
+
 }  // namespace cslam

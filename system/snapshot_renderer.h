@@ -40,7 +40,8 @@ RenderView SnapshotView(const Pose& world_from_cam, const SnapshotOptions& optio
 
 /// Draws `points` (coloured by ColorForCluster), the frustum of `cam` at `world_from_cam`, the
 /// `recent` trajectories (camera black, ground truth dashed), a ground grid and a legend of
-/// the clusters shown. Returns an 8-bit BGR image of options.width x options.height.
+/// the clusters shown. Returns an 8-bit BGR image of options.width x options.height. Renders
+/// in its own OffscreenContext, so calls may run concurrently on different threads.
 /// Throws ConfigError for bad options, cslam::Error when offscreen rendering fails.
 cv::Mat RenderSnapshot(const std::vector<RenderPoint>& points, const Pose& world_from_cam,
                        const StereoCamera& cam, const std::vector<RenderTrajectory>& recent,

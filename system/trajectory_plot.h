@@ -30,7 +30,8 @@ TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajecto
 
 /// Draws the trajectories (camera black, clusters in ColorForCluster, ground truth dashed) on
 /// white with the grid, axis labels in metres, a scale bar and a legend of the labels. Returns
-/// an 8-bit BGR image. Throws cslam::Error when offscreen rendering is unavailable.
+/// an 8-bit BGR image. Renders in its own OffscreenContext, so calls may run concurrently on
+/// different threads. Throws cslam::Error when offscreen rendering is unavailable.
 cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectories,
                                 int width = 1200, int height = 900);
 

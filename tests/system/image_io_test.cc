@@ -28,6 +28,12 @@ TEST(ImageIo, WritesALosslessPngAtomically) {
   fs::remove_all(dir);
 }
 
+TEST(ImageIo, FrameImageNamesArePaddedToSixDigits) {
+  EXPECT_EQ(FrameImageName("snapshot", 42), "snapshot_000042.png");
+  EXPECT_EQ(FrameImageName("overlay", 0), "overlay_000000.png");
+  EXPECT_EQ(FrameImageName("overlay", 1234567), "overlay_1234567.png");
+}
+
 TEST(ImageIo, EmptyImageOrUnwritablePathIsAnOutputError) {
   EXPECT_THROW(WritePng(cv::Mat(), "/tmp/cslam_never.png"), OutputError);
   const fs::path blocker = fs::temp_directory_path() / "cslam_png_blocker";

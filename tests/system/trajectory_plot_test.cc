@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "system/cluster_colors.h"
 #include "tests/system/image_test_util.h"
 
@@ -74,6 +76,18 @@ TEST(TrajectoryPlot, DrawsTheCameraSolidBlackAndGroundTruthDashed) {
   EXPECT_LT(dashed, 0.8);
   // Nothing drawn in the colour of a cluster that is not in the scene.
   EXPECT_EQ(testing::CountColour(image, BgrForCluster(4), 30), 0);
+}
+
+TEST(TrajectoryPlot, IsDeterministicAndCanRunOnTwoThreadsAtOnce) {
+  const auto scene = Scene();
+  const cv::Mat reference = RenderTrajectoryTopView(scene, 500, 400);
+  cv::Mat a, b;
+  std::thread ta([&] { a = RenderTrajectoryTopView(scene, 500, 400); });
+  std::thread tb([&] { b = RenderTrajectoryTopView(scene, 500, 400); });
+  ta.join();
+  tb.join();
+  EXPECT_EQ(cv::norm(a, reference, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(b, reference, cv::NORM_INF), 0.0);
 }
 
 TEST(TrajectoryPlot, EmptyInputGivesAnEmptyGridNotACrash) {
