@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <thread>
 
 #include "system/cluster_colors.h"
@@ -88,6 +91,39 @@ TEST(TrajectoryPlot, IsDeterministicAndCanRunOnTwoThreadsAtOnce) {
   tb.join();
   EXPECT_EQ(cv::norm(a, reference, cv::NORM_INF), 0.0);
   EXPECT_EQ(cv::norm(b, reference, cv::NORM_INF), 0.0);
+}
+
+// Real KITTI odometry ground truth (dashed) beside an estimate that drifts sideways: the plot
+// keeps both on the page and the estimate is black along its whole length.
+TEST(TrajectoryPlot, KittiOdometryGroundTruthAndADriftingEstimate) {
+  const char* env = std::getenv("CSLAM_SHARED_DATA");  // overrides the build-time path
+  const std::string file =
+      std::string(env ? env : CSLAM_SHARED_DATA_DIR) + "/kitti_odometry/poses/clip_a.txt";
+  std::ifstream in(file);
+  if (!in) GTEST_SKIP() << "KITTI odometry poses not found: " << file;
+  RenderTrajectory truth{"ground truth", {}, -1, true};
+  RenderTrajectory estimate{"camera", {}, -1, false};
+  RenderTrajectory van{"cluster 1 (van)", {}, 1, false};
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    double m[12];
+    for (double& v : m) fields >> v;
+    const Eigen::Vector3d p(m[3], m[7], m[11]);
+    const double k = static_cast<double>(truth.positions.size());
+    truth.positions.push_back(p);
+    estimate.positions.push_back(p + Eigen::Vector3d(0.04 * k, 0.0, -0.01 * k));
+    van.positions.push_back(p + Eigen::Vector3d(-3.0, 0.0, 12.0 + 0.3 * k));
+  }
+  ASSERT_EQ(truth.positions.size(), 51u);
+  const std::vector<RenderTrajectory> scene = {truth, estimate, van};
+  const cv::Mat image = RenderTrajectoryTopView(scene);
+  testing::MaybeSave(image, "trajectory_kitti.png");
+  const TopViewLayout layout = ComputeTopViewLayout(scene, 1200, 900);
+  for (const auto& p : estimate.positions)
+    EXPECT_TRUE(ColourNear(image, layout.ToPixel(p), {0, 0, 0}, 1, 70)) << p.transpose();
+  for (const auto& p : van.positions)
+    EXPECT_TRUE(ColourNear(image, layout.ToPixel(p), BgrForCluster(1), 1, 60)) << p.transpose();
 }
 
 TEST(TrajectoryPlot, EmptyInputGivesAnEmptyGridNotACrash) {
