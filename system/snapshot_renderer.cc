@@ -112,8 +112,8 @@ cv::Mat Render(const std::vector<RenderPoint>& landmarks, const std::vector<Rend
 }  // namespace
 
 void SnapshotOptions::Check() const {
-  CheckOption(width > 0 && height > 0, "snapshot.width/height", "must be positive",
-              std::min(width, height));
+  CheckOption(width > 0, "snapshot.width", "must be > 0", width);
+  CheckOption(height > 0, "snapshot.height", "must be > 0", height);
   CheckOption(horizontal_fov_deg > 0 && horizontal_fov_deg < 170, "snapshot.horizontal_fov_deg",
               "must be in (0, 170)", horizontal_fov_deg);
   CheckOption(back_m >= 0, "snapshot.back_m", "must be >= 0", back_m);
