@@ -63,7 +63,9 @@ void WriteLandmarkClouds(const std::vector<RenderPoint>& points, const std::stri
   cloud.height = 1;
   cloud.is_dense = true;
   WriteThroughTemporary(ply_path, [&cloud](const std::string& tmp) {
-    return pcl::io::savePLYFileBinary(tmp, cloud);
+    // No PCL "camera" element: plain vertex PLY that every viewer reads without warnings.
+    pcl::PLYWriter writer;
+    return writer.write(tmp, cloud, /*binary=*/true, /*use_camera=*/false);
   });
   WriteThroughTemporary(pcd_path, [&cloud](const std::string& tmp) {
     return pcl::io::savePCDFileBinary(tmp, cloud);
