@@ -51,6 +51,7 @@ KittiOdometrySource::KittiOdometrySource(const std::string& sequence_dir) {
 
   const KittiOdometryCalib calib = ReadKittiOdometryCalibration((seq / "calib.txt").string());
   camera_ = calib.camera;
+  cam_from_velo_ = calib.cam0_from_velo;
   ListStereoPairs((seq / "image_0").string(), (seq / "image_1").string(), &left_files_,
                   &right_files_);
   const fs::path times_file = seq / "times.txt";

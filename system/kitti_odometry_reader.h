@@ -23,9 +23,13 @@ class KittiOdometrySource : public StereoSource {
   StereoFrame Load(int index) const override;
   std::optional<std::vector<Pose>> GroundTruth() const override { return ground_truth_; }
 
+  /// Rectified camera 0 ← velodyne from calib.txt's "Tr:" line, when present.
+  const std::optional<Pose>& cam_from_velo() const { return cam_from_velo_; }
+
  private:
   std::string name_;
   StereoCamera camera_;
+  std::optional<Pose> cam_from_velo_;
   std::vector<std::string> left_files_, right_files_;
   std::vector<double> timestamps_;
   std::optional<std::vector<Pose>> ground_truth_;

@@ -64,5 +64,23 @@ TEST(KittiCalibration, RigidCalibrationFilesReadRAndT) {
                                   Eigen::Vector3d(-4.069766e-03, -7.631618e-02, -2.717806e-01), 1e-12));
 }
 
+TEST(KittiCalibration, OdometryCalibReadsTheOptionalTrLine) {
+  testing::TempDir tmp("odo_calib_tr");
+  const auto file = tmp.path() / "calib.txt";
+  const std::string p = "P0: 700 0 600 0 0 700 180 0 0 0 1 0\nP1: 700 0 600 -350 0 700 180 0 0 0 1 0\n";
+  testing::WriteText(file, p);
+  const KittiOdometryCalib without = ReadKittiOdometryCalibration(file.string());
+  EXPECT_FALSE(without.cam0_from_velo.has_value());
+  EXPECT_DOUBLE_EQ(without.camera.baseline, 0.5);
+  testing::WriteText(file, p + "Tr: 0 -1 0 0.1 0 0 -1 0.2 1 0 0 0.3\n");
+  const KittiOdometryCalib with = ReadKittiOdometryCalibration(file.string());
+  ASSERT_TRUE(with.cam0_from_velo.has_value());
+  EXPECT_TRUE(testing::MatrixNear(*with.cam0_from_velo * Eigen::Vector3d(1, 0, 0),
+                                  Eigen::Vector3d(0.1, 0.2, 1.3), 1e-12));
+  testing::WriteText(file, p + "Tr: 1 1 0 0 0 1 0 0 0 0 1 0\n");
+  EXPECT_THAT(testing::InputErrorMessage([&] { ReadKittiOdometryCalibration(file.string()); }),
+              HasSubstr(file.string() + ":3: 'Tr': expected a rotation matrix"));
+}
+
 }  // namespace
 }  // namespace cslam

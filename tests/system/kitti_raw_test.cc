@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <thread>
 #include <opencv2/core.hpp>
 
+#include "core/errors.h"
 #include "system/kitti_calibration.h"
 #include "tests/support/matchers.h"
 #include "tests/system/kitti_fixtures.h"
@@ -169,6 +171,45 @@ TEST(KittiRaw, ParkedCarsStayPutInTheWorld) {
   // first to their last position.
   EXPECT_NEAR((world_positions[0].back() - world_positions[0].front()).norm(), 91.0, 2.0);
   EXPECT_NEAR((world_positions[1].back() - world_positions[1].front()).norm(), 69.0, 2.0);
+}
+
+TEST(KittiRaw, ColourPairUsesCamera02AndShiftsTheGroundTruth) {
+  // The shared data has no colour images: stand the grey ones in for image_02/03 (same
+  // rectified size) to check the calibration and the frame chain of the colour camera.
+  testing::TempDir tmp("raw_colour");
+  const auto drive = testing::MakeRawCopy(tmp.path(), 5);
+  std::filesystem::rename(drive / "image_00", drive / "image_02");
+  std::filesystem::rename(drive / "image_01", drive / "image_03");
+  testing::WriteText(drive / "tracklet_labels.xml", "<boost_serialization><tracklets><count>0</count>"
+                                                    "</tracklets></boost_serialization>\n");
+  const KittiRawSource colour(drive.string(), /*color=*/true);
+  EXPECT_NEAR(colour.camera().baseline, 0.532712, 1e-5);
+  EXPECT_DOUBLE_EQ(colour.camera().fx, 7.215377e+02);
+  EXPECT_EQ(colour.Load(4).left.type(), CV_8UC1);
+
+  const KittiCamToCam calib = ReadKittiCamToCam((RawDateDir() / "calib_cam_to_cam.txt").string());
+  const Pose cam2_from_cam0 = CamFromCam0Rect(calib, 2);
+  // Same rig, other camera: cam2 poses are the cam0 poses conjugated by the fixed offset.
+  EXPECT_TRUE(testing::PoseNear(colour.cam_from_velo(), cam2_from_cam0 * Drive0005().cam_from_velo(),
+                                1e-12, 1e-12));
+  const auto gt = colour.GroundTruth();
+  ASSERT_TRUE(gt.has_value());
+  for (int k = 0; k < 5; ++k)
+    EXPECT_TRUE(testing::PoseNear((*gt)[k],
+                                  cam2_from_cam0 * (*Drive0005().GroundTruth())[k] * cam2_from_cam0.inverse(),
+                                  1e-9, 1e-9));
+  EXPECT_THROW(KittiRawSource(drive.string(), /*color=*/false), InputError);
+}
+
+TEST(KittiRaw, LoadIsSafeFromSeveralThreads) {
+  const KittiRawSource& src = Drive0005();
+  std::vector<cv::Mat> sequential;
+  for (int k = 0; k < 4; ++k) sequential.push_back(src.Load(k * 40).left);
+  std::vector<cv::Mat> parallel(4);
+  std::vector<std::thread> threads;
+  for (int k = 0; k < 4; ++k) threads.emplace_back([&, k] { parallel[k] = src.Load(k * 40).left; });
+  for (auto& t : threads) t.join();
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(cv::norm(sequential[k], parallel[k], cv::NORM_INF), 0.0);
 }
 
 }  // namespace
