@@ -1,0 +1,53 @@
+#pragma once
+// A dataset as a sequence of rectified stereo pairs with optional ground truth. Readers
+// (kitti_raw_reader.h, kitti_odometry_reader.h) validate calibration, timestamps and file
+// lists in their constructors and decode images lazily in Load().
+#include <opencv2/core/mat.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/rigid.h"
+#include "core/stereo_camera.h"
+
+namespace cslam {
+
+/// One decoded stereo pair.
+struct StereoFrame {
+  int index = 0;           ///< frame number in the sequence, 0-based
+  double timestamp = 0.0;  ///< seconds from the first frame
+  cv::Mat left, right;     ///< 8-bit grey (CV_8UC1), same size as the camera's image
+};
+
+/// A labelled 3-D object box in one frame. Box frame: origin at the centre of the bottom
+/// face, x along the length, y along the width, z up (KITTI velodyne convention).
+struct ObjectBox {
+  int track_id = 0;    ///< index of the object in the label file, stable over frames
+  std::string type;    ///< "Car", "Van", "Pedestrian", "Cyclist", ...
+  Pose cam_from_box = Pose::Identity();  ///< box frame → rectified left camera of this frame
+  double h = 0, w = 0, l = 0;            ///< height (z), width (y), length (x), metres
+};
+
+/// One sequence of rectified stereo pairs.
+class StereoSource {
+ public:
+  virtual ~StereoSource() = default;
+  /// Sequence name, e.g. "2011_09_26_drive_0005_sync" or "00".
+  virtual std::string name() const = 0;
+  /// "kitti_raw" or "kitti_odometry".
+  virtual std::string kind() const = 0;
+  virtual const StereoCamera& camera() const = 0;
+  virtual int size() const = 0;
+  /// Seconds from the first frame, strictly increasing, one per frame.
+  virtual const std::vector<double>& timestamps() const = 0;
+  /// Decodes frame `index` (0 <= index < size()). Throws InputError on a missing or corrupt
+  /// image or a size mismatch. Thread-safe: const and without shared mutable state.
+  virtual StereoFrame Load(int index) const = 0;
+  /// world_from_cam per frame (world = rectified left camera at frame 0), when known.
+  virtual std::optional<std::vector<Pose>> GroundTruth() const = 0;
+  /// [frame] labelled object boxes; empty when the dataset has no labels.
+  virtual std::vector<std::vector<ObjectBox>> ObjectBoxes() const { return {}; }
+};
+
+}  // namespace cslam
