@@ -42,10 +42,9 @@ int RunEval(const EvalArgs& args) {
   const Trajectory gt = ReadTrajectory(args.gt_file, gt_format);
   const Trajectory est_raw = ReadTrajectory(args.est_file, est_format);
   if (gt_format != est_format)
-    throw InputError(args.est_file, std::string("is in ") + TrajectoryFormatName(est_format) +
-                                        " format but the ground truth is " +
-                                        TrajectoryFormatName(gt_format) +
-                                        "; KITTI files pair by frame, TUM files by timestamp");
+    throw InputError(args.est_file, std::string("the estimate is in ") + TrajectoryFormatName(est_format) +
+                                        " format but the ground truth in " + TrajectoryFormatName(gt_format) +
+                                        " (KITTI files pair by frame, TUM files by timestamp); convert one");
 
   AssociationOptions association;
   association.max_time_difference_s = args.max_dt_s;
@@ -57,7 +56,7 @@ int RunEval(const EvalArgs& args) {
   RunMetrics metrics;
   metrics.sequence = args.sequence.empty() ? std::filesystem::path(args.gt_file).stem().string() : args.sequence;
   metrics.method = args.method.empty() ? std::filesystem::path(args.est_file).stem().string() : args.method;
-  metrics.frames = int(pairs.size());
+  metrics.frames = int(gt.size());
   metrics.camera = EvaluateCameraTrajectory(gt, est_raw, association);
 
   // --sim3: the estimate's scale is unknown (monocular), so the relative errors are taken
