@@ -31,14 +31,16 @@ std::vector<int> SortedUnique(std::vector<int> v) {
 }
 
 Contingency BuildContingency(const std::vector<int>& truth, const std::vector<int>& predicted) {
-  CSLAM_CHECK(truth.size() == predicted.size(), "clustering metrics need one predicted label per truth label");
+  CSLAM_CHECK(truth.size() == predicted.size(),
+              "clustering metrics need one predicted label per truth label");
   Contingency c;
   c.truth_labels = SortedUnique(truth);
   std::vector<int> clustered;
   for (int p : predicted)
     if (p >= 0) clustered.push_back(p);
   c.predicted_labels = SortedUnique(clustered);
-  c.counts = Eigen::MatrixXd::Zero(Eigen::Index(c.truth_labels.size()), Eigen::Index(c.predicted_labels.size()));
+  c.counts = Eigen::MatrixXd::Zero(Eigen::Index(c.truth_labels.size()),
+                                   Eigen::Index(c.predicted_labels.size()));
   for (size_t k = 0; k < truth.size(); ++k)
     if (predicted[k] >= 0)
       c.counts(IndexOf(c.truth_labels, truth[k]), IndexOf(c.predicted_labels, predicted[k])) += 1.0;
@@ -55,7 +57,8 @@ double ClusteringAccuracy(const std::vector<int>& truth, const std::vector<int>&
 }
 
 double VariationOfInformation(const std::vector<int>& truth, const std::vector<int>& predicted) {
-  CSLAM_CHECK(truth.size() == predicted.size(), "clustering metrics need one predicted label per truth label");
+  CSLAM_CHECK(truth.size() == predicted.size(),
+              "clustering metrics need one predicted label per truth label");
   if (truth.empty()) return std::numeric_limits<double>::quiet_NaN();
   // Unclustered entries become fresh labels below every real one, one each.
   std::vector<int> y = predicted;

@@ -82,9 +82,13 @@ nlohmann::json ToJson(const RunMetrics& m) {
                  {"backend_ms_per_window", Value(m.timing.backend_ms_per_window)},
                  {"hz", Value(m.timing.hz)}};
   j["conventions"] = {
-      {"ate", "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each aligned on their own"},
-      {"rpe_frame", "RMSE over consecutive frames (delta 1), E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), evo_rpe default"},
-      {"rpe_pairs", "RMSE over all ordered pairs i != j, randomly subsampled to 10000 (mt19937 seed 42)"},
+      {"ate",
+       "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each "
+       "aligned on their own"},
+      {"rpe_frame",
+       "RMSE over consecutive frames (delta 1), E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), evo_rpe default"},
+      {"rpe_pairs",
+       "RMSE over all ordered pairs i != j, randomly subsampled to 10000 (mt19937 seed 42)"},
       {"vi", "natural logarithm (nats)"},
       {"accuracy", "Hungarian matching on the contingency table / all landmarks"}};
   return j;
@@ -94,7 +98,8 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
   RunMetrics m;
   try {
     if (!j.is_object()) throw InputError(source, "expected a JSON object");
-    if (j.contains("sequence") && j["sequence"].is_string()) m.sequence = j["sequence"].get<std::string>();
+    if (j.contains("sequence") && j["sequence"].is_string())
+      m.sequence = j["sequence"].get<std::string>();
     if (j.contains("method") && j["method"].is_string()) m.method = j["method"].get<std::string>();
     Read(j, "frames", m.frames);
     const json& c = Child(j, "camera");
@@ -118,7 +123,8 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     if (o.contains("per_object") && o["per_object"].is_array()) {
       for (const json& e : o["per_object"]) {
         RunMetrics::PerObject p;
-        if (e.contains("gt_object") && !e["gt_object"].is_null()) p.gt_object = e["gt_object"].get<int>();
+        if (e.contains("gt_object") && !e["gt_object"].is_null())
+          p.gt_object = e["gt_object"].get<int>();
         Read(e, "cluster", p.cluster);
         Read(e, "landmarks", p.landmarks);
         Read(e, "ate_m", p.ate_m);

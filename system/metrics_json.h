@@ -63,7 +63,8 @@ nlohmann::json ToJson(const RunMetrics& metrics);
 
 /// Inverse of ToJson (missing keys and nulls become empty optionals). Throws InputError(source)
 /// when a present value has the wrong type.
-RunMetrics RunMetricsFromJson(const nlohmann::json& json, const std::string& source = "metrics.json");
+RunMetrics RunMetricsFromJson(const nlohmann::json& json,
+                              const std::string& source = "metrics.json");
 
 /// Writes ToJson(metrics), indented, atomically to `path`.
 void WriteMetricsJson(const RunMetrics& metrics, const std::string& path);

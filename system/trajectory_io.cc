@@ -40,7 +40,8 @@ double ParseNumber(const std::string& text, const std::string& file, int line) {
   const auto [ptr, ec] = std::from_chars(begin, end, value);
   if (ec != std::errc() || ptr != end)
     throw InputError(file, line, "expected a number, got '" + text + "'");
-  if (!std::isfinite(value)) throw InputError(file, line, "expected a finite number, got '" + text + "'");
+  if (!std::isfinite(value))
+    throw InputError(file, line, "expected a finite number, got '" + text + "'");
   return value;
 }
 
@@ -90,8 +91,9 @@ void ReadFrameIndexFile(const std::string& file, Trajectory& trajectory) {
   });
   if (frames.size() != trajectory.size())
     throw InputError(index_file, last_line,
-                     "expected " + std::to_string(trajectory.size()) + " frame indices (one per pose of " +
-                         file + "), got " + std::to_string(frames.size()));
+                     "expected " + std::to_string(trajectory.size()) +
+                         " frame indices (one per pose of " + file + "), got " +
+                         std::to_string(frames.size()));
   trajectory.frames = std::move(frames);
 }
 
@@ -116,8 +118,9 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format) {
       const Eigen::Matrix3d r = m.leftCols<3>();
       const double off = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
       if (off > kRotationTolerance || r.determinant() <= 0)
-        throw InputError(file, line, "expected an orthonormal rotation with determinant +1 (|R^T R - I| = " +
-                                         FormatNumber(off) + ")");
+        throw InputError(file, line,
+                         "expected an orthonormal rotation with determinant +1 (|R^T R - I| = " +
+                             FormatNumber(off) + ")");
       Pose pose = Pose::Identity();
       pose.linear() = NearestRotation(r);
       pose.translation() = m.col(3);
@@ -137,7 +140,8 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format) {
         throw InputError(file, line, "expected non-decreasing timestamps");
       Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
       if (std::abs(q.norm() - 1.0) > kRotationTolerance)
-        throw InputError(file, line, "expected a unit quaternion (norm " + FormatNumber(q.norm()) + ")");
+        throw InputError(file, line,
+                         "expected a unit quaternion (norm " + FormatNumber(q.norm()) + ")");
       q.normalize();
       Pose pose = Pose::Identity();
       pose.linear() = q.toRotationMatrix();
@@ -149,7 +153,8 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format) {
   return trajectory;
 }
 
-void WriteTrajectory(const Trajectory& trajectory, const std::string& file, TrajectoryFormat format) {
+void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
+                     TrajectoryFormat format) {
   CSLAM_CHECK(trajectory.timestamps.empty() || trajectory.timestamps.size() == trajectory.size(),
               "Trajectory timestamps must be empty or one per pose");
   CSLAM_CHECK(trajectory.frames.empty() || trajectory.frames.size() == trajectory.size(),
@@ -163,7 +168,8 @@ void WriteTrajectory(const Trajectory& trajectory, const std::string& file, Traj
       }
     });
     bool contiguous = true;
-    for (size_t i = 0; i < trajectory.frames.size(); ++i) contiguous &= trajectory.frames[i] == int(i);
+    for (size_t i = 0; i < trajectory.frames.size(); ++i)
+      contiguous &= trajectory.frames[i] == int(i);
     if (!contiguous)
       WriteFileAtomically(FrameIndexPathFor(file), [&](std::ostream& out) {
         for (int frame : trajectory.frames) out << frame << '\n';

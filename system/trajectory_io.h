@@ -24,7 +24,8 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format);
 /// the frame index when the trajectory has no timestamps. KITTI: 12 numbers row-major 3x4;
 /// when the frames are not exactly 0, 1, ..., n-1 the frame indices are also written, one per
 /// line, to FrameIndexPathFor(file) so that ReadTrajectory restores them.
-void WriteTrajectory(const Trajectory& trajectory, const std::string& file, TrajectoryFormat format);
+void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
+                     TrajectoryFormat format);
 
 /// Side file holding the frame index of each line of a KITTI trajectory: "<file>.frames".
 std::string FrameIndexPathFor(const std::string& file);

@@ -18,8 +18,8 @@ namespace cslam {
 /// How ground-truth and estimated poses are paired.
 struct AssociationOptions {
   enum class Mode {
-    kAuto,       ///< frames when both have frames, else timestamps when both have them, else by index
-    kFrame,      ///< equal frame index
+    kAuto,   ///< frames when both have frames, else timestamps when both have them, else by index
+    kFrame,  ///< equal frame index
     kTimestamp,  ///< nearest timestamp within max_time_difference_s (evo's rule)
     kIndex,      ///< k-th pose with k-th pose (evo's rule for KITTI files; sizes may differ)
   };

@@ -67,8 +67,8 @@ TEST(ClusteringMetrics, MatchSkipsObjectsWithoutOverlap) {
 }
 
 // Accuracy by enumerating every injective map of predicted labels onto truth labels.
-double BruteForceAccuracy(const std::vector<int>& truth, const std::vector<int>& predicted, int n_truth,
-                          int n_pred) {
+double BruteForceAccuracy(const std::vector<int>& truth, const std::vector<int>& predicted,
+                          int n_truth, int n_pred) {
   std::vector<int> target(size_t(std::max(n_truth, n_pred)));
   std::iota(target.begin(), target.end(), 0);  // values >= n_truth mean "unmatched"
   int best = 0;
@@ -91,8 +91,8 @@ TEST(ClusteringMetrics, AccuracyMatchesBruteForceOnRandomLabelings) {
       truth[k] = t(rng);
       predicted[k] = p(rng);
     }
-    EXPECT_NEAR(ClusteringAccuracy(truth, predicted), BruteForceAccuracy(truth, predicted, n_truth, n_pred),
-                1e-12);
+    EXPECT_NEAR(ClusteringAccuracy(truth, predicted),
+                BruteForceAccuracy(truth, predicted, n_truth, n_pred), 1e-12);
   }
 }
 

@@ -17,12 +17,14 @@ double BruteForceOptimum(const Eigen::MatrixXd& w, AssignmentObjective objective
   const Eigen::MatrixXd m = wide ? w : Eigen::MatrixXd(w.transpose());
   std::vector<int> cols(size_t(m.cols()));
   std::iota(cols.begin(), cols.end(), 0);
-  double best = objective == AssignmentObjective::kMinimise ? std::numeric_limits<double>::infinity()
-                                                            : -std::numeric_limits<double>::infinity();
+  double best = objective == AssignmentObjective::kMinimise
+                    ? std::numeric_limits<double>::infinity()
+                    : -std::numeric_limits<double>::infinity();
   do {
     double total = 0;
     for (int r = 0; r < m.rows(); ++r) total += m(r, cols[size_t(r)]);
-    best = objective == AssignmentObjective::kMinimise ? std::min(best, total) : std::max(best, total);
+    best =
+        objective == AssignmentObjective::kMinimise ? std::min(best, total) : std::max(best, total);
   } while (std::next_permutation(cols.begin(), cols.end()));
   return best;
 }
@@ -45,7 +47,8 @@ void ExpectValid(const Assignment& a, const Eigen::MatrixXd& w) {
 TEST(Hungarian, MatchesBruteForceOnRandomMatrices) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-5.0, 10.0);
-  for (const auto& [rows, cols] : std::vector<std::pair<int, int>>{{5, 5}, {4, 6}, {6, 4}, {1, 5}, {3, 3}}) {
+  for (const auto& [rows, cols] :
+       std::vector<std::pair<int, int>>{{5, 5}, {4, 6}, {6, 4}, {1, 5}, {3, 3}}) {
     for (int trial = 0; trial < 20; ++trial) {
       Eigen::MatrixXd w(rows, cols);
       for (int r = 0; r < rows; ++r)

@@ -1,13 +1,13 @@
 #include "system/metrics_json.h"
 
-#include "core/errors.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+
+#include "core/errors.h"
 
 namespace cslam {
 namespace {
@@ -26,13 +26,14 @@ TEST(MetricsJson, UnknownFiguresAreNull) {
   EXPECT_TRUE(j["frames"].is_null());
   EXPECT_TRUE(j["log_chi2"].is_null());
   EXPECT_TRUE(j["objects"]["per_object"].is_array());
-  for (const char* key : {"sequence", "frames", "method", "camera", "objects", "clustering", "landmarks",
-                          "log_chi2", "timing"})
+  for (const char* key : {"sequence", "frames", "method", "camera", "objects", "clustering",
+                          "landmarks", "log_chi2", "timing"})
     EXPECT_TRUE(j.contains(key)) << key;
-  for (const char* key : {"ate_m", "ate_sim3_m", "sim3_scale", "rpe_frame_t_m", "rpe_frame_r_rad", "rpe_pairs_t_m",
-                          "rpe_pairs_r_rad", "path_length_m", "gt_path_length_m"})
+  for (const char* key : {"ate_m", "ate_sim3_m", "sim3_scale", "rpe_frame_t_m", "rpe_frame_r_rad",
+                          "rpe_pairs_t_m", "rpe_pairs_r_rad", "path_length_m", "gt_path_length_m"})
     EXPECT_TRUE(j["camera"].contains(key)) << key;
-  for (const char* key : {"accuracy", "vi", "clusters", "gt_objects"}) EXPECT_TRUE(j["clustering"].contains(key));
+  for (const char* key : {"accuracy", "vi", "clusters", "gt_objects"})
+    EXPECT_TRUE(j["clustering"].contains(key));
   for (const char* key : {"total_s", "frontend_ms_per_frame", "backend_ms_per_window", "hz"})
     EXPECT_TRUE(j["timing"].contains(key));
   EXPECT_NE(j["conventions"]["vi"].get<std::string>().find("natural"), std::string::npos);
@@ -63,7 +64,8 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   m.log_chi2 = 7.15;
   m.timing.hz = 12.5;
 
-  const auto path = std::filesystem::temp_directory_path() / ("cslam_metrics_" + std::to_string(::getpid())) / "metrics.json";
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("cslam_metrics_" + std::to_string(::getpid())) / "metrics.json";
   WriteMetricsJson(m, path.string());
   nlohmann::json j;
   std::ifstream(path) >> j;

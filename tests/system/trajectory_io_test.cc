@@ -32,7 +32,8 @@ class TrajectoryIo : public ::testing::Test {
   }
 
   // Expects ReadTrajectory to throw InputError whose message starts with "path:line:".
-  void ExpectInputError(const std::string& path, TrajectoryFormat format, int line, const std::string& fragment) {
+  void ExpectInputError(const std::string& path, TrajectoryFormat format, int line,
+                        const std::string& fragment) {
     try {
       ReadTrajectory(path, format);
       ADD_FAILURE() << "no error for " << path;
@@ -110,39 +111,47 @@ TEST_F(TrajectoryIo, TumWithoutTimestampsWritesFrameIndices) {
   t.frames = {5, 6, 8};
   const std::string path = (dir_ / "o.tum").string();
   WriteTrajectory(t, path, TrajectoryFormat::kTum);
-  EXPECT_EQ(ReadTrajectory(path, TrajectoryFormat::kTum).timestamps, (std::vector<double>{5, 6, 8}));
+  EXPECT_EQ(ReadTrajectory(path, TrajectoryFormat::kTum).timestamps,
+            (std::vector<double>{5, 6, 8}));
 }
 
 TEST_F(TrajectoryIo, ReadsToleratedVariants) {
   // Comments, blank lines, tabs, a '+' sign and 6-digit rotations (KITTI's own files).
-  const std::string path = Write("gt.txt",
-                                 "# comment\n"
-                                 "1.000000e+00 0 0 +1.5 0 1 0 0 0 0 1 0\n"
-                                 "\n"
-                                 "9.999995e-01\t7.196824e-04 -6.870876e-04 -1.401751e-02 -7.197717e-04 "
-                                 "9.999997e-01 -1.295633e-04 -2.820321e-02 6.869946e-04 1.300585e-04 "
-                                 "9.999998e-01 1.198998e+00\n");
+  const std::string path =
+      Write("gt.txt",
+            "# comment\n"
+            "1.000000e+00 0 0 +1.5 0 1 0 0 0 0 1 0\n"
+            "\n"
+            "9.999995e-01\t7.196824e-04 -6.870876e-04 -1.401751e-02 -7.197717e-04 "
+            "9.999997e-01 -1.295633e-04 -2.820321e-02 6.869946e-04 1.300585e-04 "
+            "9.999998e-01 1.198998e+00\n");
   const Trajectory t = ReadTrajectory(path, TrajectoryFormat::kKitti);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t.frames, (std::vector<int>{0, 1}));
   EXPECT_DOUBLE_EQ(t.poses[0].translation().x(), 1.5);
-  EXPECT_NEAR((t.poses[1].linear().transpose() * t.poses[1].linear() - Eigen::Matrix3d::Identity()).norm(), 0,
-              1e-12);
+  EXPECT_NEAR(
+      (t.poses[1].linear().transpose() * t.poses[1].linear() - Eigen::Matrix3d::Identity()).norm(),
+      0, 1e-12);
 }
 
 TEST_F(TrajectoryIo, MalformedLinesNameFileAndLine) {
   const std::string ok = "1 0 0 0 0 1 0 0 0 0 1 0\n";
   ExpectInputError(Write("a.txt", ok + ok + "1 0 0 0 0 1 0 0 0 0 1\n"), TrajectoryFormat::kKitti, 3,
                    "expected 12 numbers");
-  ExpectInputError(Write("b.txt", ok + "1 0 0 nan 0 1 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 2, "finite");
-  ExpectInputError(Write("c.txt", ok + "1 0 0 x 0 1 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 2, "'x'");
-  ExpectInputError(Write("d.txt", "1 0 0 0 0 1.01 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 1, "orthonormal");
-  ExpectInputError(Write("e.txt", "-1 0 0 0 0 1 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 1, "determinant");
-  ExpectInputError(Write("f.tum", "0.0 1 2 3 0 0 0 1\n0.1 1 2 3 0 0 0\n"), TrajectoryFormat::kTum, 2,
-                   "expected 8 fields");
-  ExpectInputError(Write("g.tum", "0.0 1 2 3 0 0 0 2\n"), TrajectoryFormat::kTum, 1, "unit quaternion");
-  ExpectInputError(Write("h.tum", "0.5 1 2 3 0 0 0 1\n0.4 1 2 3 0 0 0 1\n"), TrajectoryFormat::kTum, 2,
-                   "non-decreasing");
+  ExpectInputError(Write("b.txt", ok + "1 0 0 nan 0 1 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 2,
+                   "finite");
+  ExpectInputError(Write("c.txt", ok + "1 0 0 x 0 1 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 2,
+                   "'x'");
+  ExpectInputError(Write("d.txt", "1 0 0 0 0 1.01 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 1,
+                   "orthonormal");
+  ExpectInputError(Write("e.txt", "-1 0 0 0 0 1 0 0 0 0 1 0\n"), TrajectoryFormat::kKitti, 1,
+                   "determinant");
+  ExpectInputError(Write("f.tum", "0.0 1 2 3 0 0 0 1\n0.1 1 2 3 0 0 0\n"), TrajectoryFormat::kTum,
+                   2, "expected 8 fields");
+  ExpectInputError(Write("g.tum", "0.0 1 2 3 0 0 0 2\n"), TrajectoryFormat::kTum, 1,
+                   "unit quaternion");
+  ExpectInputError(Write("h.tum", "0.5 1 2 3 0 0 0 1\n0.4 1 2 3 0 0 0 1\n"), TrajectoryFormat::kTum,
+                   2, "non-decreasing");
   ExpectInputError(Write("i.tum", "0.5 1 2 inf 0 0 0 1\n"), TrajectoryFormat::kTum, 1, "finite");
 }
 
@@ -155,7 +164,8 @@ TEST_F(TrajectoryIo, GuessRejectsOtherFieldCountsAndMissingFiles) {
     EXPECT_EQ(std::string(e.what()).rfind(bad + ":2: ", 0), 0u) << e.what();
   }
   EXPECT_THROW(GuessTrajectoryFormat(Write("empty.txt", "")), InputError);
-  EXPECT_THROW(ReadTrajectory((dir_ / "missing.txt").string(), TrajectoryFormat::kKitti), InputError);
+  EXPECT_THROW(ReadTrajectory((dir_ / "missing.txt").string(), TrajectoryFormat::kKitti),
+               InputError);
 }
 
 TEST_F(TrajectoryIo, FrameIndexFileMustMatchThePoses) {

@@ -75,7 +75,8 @@ TEST(Ate, KnownErrorThatNoAlignmentCanRemove) {
     est_poses.push_back(e);
   }
   const Trajectory gt = FromPoses(gt_poses);
-  const Trajectory est = LeftMultiplied(MakePose({-0.2, 0.5, 2.0}, {3, 4, 5}), FromPoses(est_poses));
+  const Trajectory est =
+      LeftMultiplied(MakePose({-0.2, 0.5, 2.0}, {3, 4, 5}), FromPoses(est_poses));
   const AteResult ate = ComputeAte(gt, est);
   EXPECT_NEAR(ate.rmse_m, h, 1e-9);
   EXPECT_NEAR(ate.mean_m, h, 1e-9);
@@ -120,7 +121,8 @@ TEST(Ate, Sim3RecoversAKnownScale) {
   const AteResult se3 = ComputeAte(gt, est, /*with_scale=*/false);
   EXPECT_GT(se3.rmse_m, 1.0);  // a 2x scale error over ~12 m of path cannot be aligned away
   const Trajectory aligned = ApplySim3(sim3.alignment, est);
-  for (size_t k = 0; k < gt.size(); ++k) EXPECT_TRUE(testing::PoseNear(aligned.poses[k], gt.poses[k], 1e-9, 1e-8));
+  for (size_t k = 0; k < gt.size(); ++k)
+    EXPECT_TRUE(testing::PoseNear(aligned.poses[k], gt.poses[k], 1e-9, 1e-8));
 }
 
 TEST(Ate, TooFewPosesGivesNaN) {
@@ -163,8 +165,10 @@ TEST(RpePerFrame, HandComputedSinglePair) {
   // translation 1 m, rotation π/2.
   const Pose q1 = MakePose({0, 0, M_PI / 2}, {1, 0, 0});
   const Pose p1 = MakePose({0, 0, 0}, {1, 1, 0});
-  const Trajectory gt = LeftMultiplied(MakePose({0.3, 0.2, 0.1}, {5, 5, 5}), FromPoses({Pose::Identity(), q1}));
-  const Trajectory est = LeftMultiplied(MakePose({-1, 0.4, 2}, {-3, 1, 0}), FromPoses({Pose::Identity(), p1}));
+  const Trajectory gt =
+      LeftMultiplied(MakePose({0.3, 0.2, 0.1}, {5, 5, 5}), FromPoses({Pose::Identity(), q1}));
+  const Trajectory est =
+      LeftMultiplied(MakePose({-1, 0.4, 2}, {-3, 1, 0}), FromPoses({Pose::Identity(), p1}));
   const RpeResult rpe = ComputeRpePerFrame(gt, est);
   EXPECT_EQ(rpe.count, 1u);
   EXPECT_NEAR(rpe.trans_rmse_m, 1.0, 1e-12);
@@ -251,7 +255,8 @@ TEST(KittiSegments, HandComputedRotationDrift) {
   const double beta = 1e-3;
   const Trajectory gt = Integrate(MakePose({0, 0, 0}, {0, 0, 1}), 301);
   Trajectory est = gt;
-  for (size_t k = 0; k < est.size(); ++k) est.poses[k].linear() = ExpSO3(Eigen::Vector3d(0, beta * double(k), 0));
+  for (size_t k = 0; k < est.size(); ++k)
+    est.poses[k].linear() = ExpSO3(Eigen::Vector3d(0, beta * double(k), 0));
   const KittiSegmentError e = ComputeKittiSegmentErrors(gt, est);
   ASSERT_TRUE(e.defined);
   EXPECT_NEAR(e.r_rel_deg_per_m, (180.0 / M_PI) * beta * (20 * 1.01 + 10 * 1.005) / 30.0, 1e-9);
