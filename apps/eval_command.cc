@@ -22,7 +22,9 @@ struct EvalArgs {
 };
 
 std::string Num(std::optional<double> v, const char* fmt = "%.6f") {
-  if (!v || !std::isfinite(*v)) return "n/a";
+  if (!v || !std::isfinite(*v)) {
+    return "n/a";
+  }
   char buf[64];
   std::snprintf(buf, sizeof(buf), fmt, *v);
   return buf;
@@ -34,25 +36,31 @@ void Row(const char* name, const std::string& value, const char* note) {
 
 int RunEval(const EvalArgs& args) {
   const auto format_of = [&](const std::string& file) {
-    if (args.format == "kitti") return TrajectoryFormat::kKitti;
-    if (args.format == "tum") return TrajectoryFormat::kTum;
+    if (args.format == "kitti") {
+      return TrajectoryFormat::kKitti;
+    }
+    if (args.format == "tum") {
+      return TrajectoryFormat::kTum;
+    }
     return GuessTrajectoryFormat(file);
   };
   const TrajectoryFormat gt_format = format_of(args.gt_file), est_format = format_of(args.est_file);
   const Trajectory gt = ReadTrajectory(args.gt_file, gt_format);
   const Trajectory est_raw = ReadTrajectory(args.est_file, est_format);
-  if (gt_format != est_format)
+  if (gt_format != est_format) {
     throw InputError(args.est_file,
                      std::string("the estimate is in ") + TrajectoryFormatName(est_format) +
                          " format but the ground truth in " + TrajectoryFormatName(gt_format) +
                          " (KITTI files pair by frame, TUM files by timestamp); convert one");
+  }
 
   AssociationOptions association;
   association.max_time_difference_s = args.max_dt_s;
   const TrajectoryAssociation pairs = Associate(gt, est_raw, association);
-  if (pairs.size() < 3)
+  if (pairs.size() < 3) {
     throw InputError(args.est_file, "only " + std::to_string(pairs.size()) +
                                         " poses pair with the ground truth; at least 3 are needed");
+  }
 
   RunMetrics metrics;
   metrics.sequence =

@@ -28,7 +28,9 @@ std::vector<int> MinimiseWideMatrix(const Eigen::MatrixXd& cost) {
       double delta = kInf;
       int j1 = 0;
       for (int j = 1; j <= m; ++j) {
-        if (used[j]) continue;
+        if (used[j]) {
+          continue;
+        }
         const double reduced = cost(i0 - 1, j - 1) - u[i0] - v[j];
         if (reduced < min_slack[j]) {
           min_slack[j] = reduced;
@@ -56,8 +58,11 @@ std::vector<int> MinimiseWideMatrix(const Eigen::MatrixXd& cost) {
     } while (j0 != 0);
   }
   std::vector<int> row_to_col(n, -1);
-  for (int j = 1; j <= m; ++j)
-    if (row_of_col[j] != 0) row_to_col[row_of_col[j] - 1] = j - 1;
+  for (int j = 1; j <= m; ++j) {
+    if (row_of_col[j] != 0) {
+      row_to_col[row_of_col[j] - 1] = j - 1;
+    }
+  }
   return row_to_col;
 }
 
@@ -69,20 +74,31 @@ Assignment SolveAssignment(const Eigen::MatrixXd& weights, AssignmentObjective o
   const int rows = int(weights.rows()), cols = int(weights.cols());
   out.row_to_col.assign(rows, -1);
   out.col_to_row.assign(cols, -1);
-  if (rows == 0 || cols == 0) return out;
+  if (rows == 0 || cols == 0) {
+    return out;
+  }
   const double sign = objective == AssignmentObjective::kMaximise ? -1.0 : 1.0;
   if (rows <= cols) {
     out.row_to_col = MinimiseWideMatrix(sign * weights);
-    for (int r = 0; r < rows; ++r)
-      if (out.row_to_col[r] >= 0) out.col_to_row[out.row_to_col[r]] = r;
+    for (int r = 0; r < rows; ++r) {
+      if (out.row_to_col[r] >= 0) {
+        out.col_to_row[out.row_to_col[r]] = r;
+      }
+    }
   } else {
     const Eigen::MatrixXd transposed = sign * weights.transpose();
     out.col_to_row = MinimiseWideMatrix(transposed);
-    for (int c = 0; c < cols; ++c)
-      if (out.col_to_row[c] >= 0) out.row_to_col[out.col_to_row[c]] = c;
+    for (int c = 0; c < cols; ++c) {
+      if (out.col_to_row[c] >= 0) {
+        out.row_to_col[out.col_to_row[c]] = c;
+      }
+    }
   }
-  for (int r = 0; r < rows; ++r)
-    if (out.row_to_col[r] >= 0) out.total += weights(r, out.row_to_col[r]);
+  for (int r = 0; r < rows; ++r) {
+    if (out.row_to_col[r] >= 0) {
+      out.total += weights(r, out.row_to_col[r]);
+    }
+  }
   return out;
 }
 

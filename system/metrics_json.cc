@@ -14,9 +14,13 @@ using nlohmann::json;
 // NaN and infinity are "unavailable" too: JSON has no spelling for them.
 template <typename T>
 json Value(const std::optional<T>& v) {
-  if (!v) return nullptr;
+  if (!v) {
+    return nullptr;
+  }
   if constexpr (std::is_floating_point_v<T>) {
-    if (!std::isfinite(*v)) return nullptr;
+    if (!std::isfinite(*v)) {
+      return nullptr;
+    }
   }
   return *v;
 }
@@ -25,7 +29,9 @@ template <typename T>
 void Read(const json& object, const char* key, std::optional<T>& out) {
   out.reset();
   const auto it = object.find(key);
-  if (it == object.end() || it->is_null()) return;
+  if (it == object.end() || it->is_null()) {
+    return;
+  }
   out = it->get<T>();
 }
 
@@ -97,10 +103,15 @@ nlohmann::json ToJson(const RunMetrics& m) {
 RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source) {
   RunMetrics m;
   try {
-    if (!j.is_object()) throw InputError(source, "expected a JSON object");
-    if (j.contains("sequence") && j["sequence"].is_string())
+    if (!j.is_object()) {
+      throw InputError(source, "expected a JSON object");
+    }
+    if (j.contains("sequence") && j["sequence"].is_string()) {
       m.sequence = j["sequence"].get<std::string>();
-    if (j.contains("method") && j["method"].is_string()) m.method = j["method"].get<std::string>();
+    }
+    if (j.contains("method") && j["method"].is_string()) {
+      m.method = j["method"].get<std::string>();
+    }
     Read(j, "frames", m.frames);
     const json& c = Child(j, "camera");
     Read(c, "ate_m", m.camera.ate_m);
@@ -123,8 +134,9 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     if (o.contains("per_object") && o["per_object"].is_array()) {
       for (const json& e : o["per_object"]) {
         RunMetrics::PerObject p;
-        if (e.contains("gt_object") && !e["gt_object"].is_null())
+        if (e.contains("gt_object") && !e["gt_object"].is_null()) {
           p.gt_object = e["gt_object"].get<int>();
+        }
         Read(e, "cluster", p.cluster);
         Read(e, "landmarks", p.landmarks);
         Read(e, "ate_m", p.ate_m);

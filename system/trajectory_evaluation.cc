@@ -7,7 +7,9 @@ namespace cslam {
 namespace {
 
 std::optional<double> Finite(double v) {
-  if (!std::isfinite(v)) return std::nullopt;
+  if (!std::isfinite(v)) {
+    return std::nullopt;
+  }
   return v;
 }
 
@@ -17,11 +19,15 @@ std::optional<double> MeanOver(const std::vector<RunMetrics::PerObject>& objects
   double sum = 0;
   int n = 0;
   for (const auto& o : objects) {
-    if (!o.found || !(o.*field)) continue;
+    if (!o.found || !(o.*field)) {
+      continue;
+    }
     sum += *(o.*field);
     ++n;
   }
-  if (n == 0) return std::nullopt;
+  if (n == 0) {
+    return std::nullopt;
+  }
   return sum / n;
 }
 
@@ -34,7 +40,9 @@ RunMetrics::Camera EvaluateCameraTrajectory(const Trajectory& gt, const Trajecto
   const AteResult sim3 = ComputeAte(gt, est, true, association);
   c.ate_m = Finite(se3.rmse_m);
   c.ate_sim3_m = Finite(sim3.rmse_m);
-  if (c.ate_sim3_m) c.sim3_scale = sim3.alignment.scale;
+  if (c.ate_sim3_m) {
+    c.sim3_scale = sim3.alignment.scale;
+  }
   const RpeResult frame = ComputeRpePerFrame(gt, est, 1, association);
   c.rpe_frame_t_m = Finite(frame.trans_rmse_m);
   c.rpe_frame_r_rad = Finite(frame.rot_rmse_rad);
@@ -68,7 +76,9 @@ void SummariseObjects(RunMetrics::Objects& objects) {
   objects.rpe_pairs_t_m = MeanOver(objects.per_object, &P::rpe_pairs_t_m);
   objects.rpe_pairs_r_rad = MeanOver(objects.per_object, &P::rpe_pairs_r_rad);
   int matched = 0;
-  for (const auto& o : objects.per_object) matched += o.found ? 1 : 0;
+  for (const auto& o : objects.per_object) {
+    matched += o.found ? 1 : 0;
+  }
   objects.matched = matched;
   objects.gt = int(objects.per_object.size());
 }

@@ -23,7 +23,9 @@ std::vector<std::string> SplitFields(const std::string& line) {
   std::vector<std::string> fields;
   std::istringstream in(line);
   std::string field;
-  while (in >> field) fields.push_back(field);
+  while (in >> field) {
+    fields.push_back(field);
+  }
   return fields;
 }
 
@@ -36,12 +38,16 @@ double ParseNumber(const std::string& text, const std::string& file, int line) {
   double value = 0.0;
   const char* begin = text.data();
   const char* end = text.data() + text.size();
-  if (begin != end && *begin == '+') ++begin;  // from_chars rejects the '+' printf may write
+  if (begin != end && *begin == '+') {
+    ++begin;  // from_chars rejects the '+' printf may write
+  }
   const auto [ptr, ec] = std::from_chars(begin, end, value);
-  if (ec != std::errc() || ptr != end)
+  if (ec != std::errc() || ptr != end) {
     throw InputError(file, line, "expected a number, got '" + text + "'");
-  if (!std::isfinite(value))
+  }
+  if (!std::isfinite(value)) {
     throw InputError(file, line, "expected a finite number, got '" + text + "'");
+  }
   return value;
 }
 
@@ -60,40 +66,53 @@ std::string FormatNumber(double value) {
 template <typename RowFn>
 void ForEachDataLine(const std::string& file, RowFn row) {
   std::ifstream in(file);
-  if (!in) throw InputError(file, "cannot open the trajectory file");
+  if (!in) {
+    throw InputError(file, "cannot open the trajectory file");
+  }
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    if (!IsDataLine(line)) continue;
+    if (!IsDataLine(line)) {
+      continue;
+    }
     row(SplitFields(line), line_number);
   }
-  if (in.bad()) throw InputError(file, "read error");
+  if (in.bad()) {
+    throw InputError(file, "read error");
+  }
 }
 
 void ReadFrameIndexFile(const std::string& file, Trajectory& trajectory) {
   const std::string index_file = FrameIndexPathFor(file);
   std::error_code ec;
-  if (!std::filesystem::exists(index_file, ec)) return;
+  if (!std::filesystem::exists(index_file, ec)) {
+    return;
+  }
   std::vector<int> frames;
   int last_line = 0;
   ForEachDataLine(index_file, [&](const std::vector<std::string>& fields, int line) {
     last_line = line;
-    if (fields.size() != 1) throw InputError(index_file, line, "expected one frame index per line");
+    if (fields.size() != 1) {
+      throw InputError(index_file, line, "expected one frame index per line");
+    }
     int frame = 0;
     const char* end = fields[0].data() + fields[0].size();
     const auto [ptr, err] = std::from_chars(fields[0].data(), end, frame);
-    if (err != std::errc() || ptr != end || frame < 0)
+    if (err != std::errc() || ptr != end || frame < 0) {
       throw InputError(index_file, line, "expected a non-negative integer frame index");
-    if (!frames.empty() && frame <= frames.back())
+    }
+    if (!frames.empty() && frame <= frames.back()) {
       throw InputError(index_file, line, "expected increasing frame indices");
+    }
     frames.push_back(frame);
   });
-  if (frames.size() != trajectory.size())
+  if (frames.size() != trajectory.size()) {
     throw InputError(index_file, last_line,
                      "expected " + std::to_string(trajectory.size()) +
                          " frame indices (one per pose of " + file + "), got " +
                          std::to_string(frames.size()));
+  }
   trajectory.frames = std::move(frames);
 }
 
@@ -109,18 +128,22 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format) {
   Trajectory trajectory;
   if (format == TrajectoryFormat::kKitti) {
     ForEachDataLine(file, [&](const std::vector<std::string>& fields, int line) {
-      if (fields.size() != 12)
+      if (fields.size() != 12) {
         throw InputError(file, line,
                          "expected 12 numbers (row-major 3x4 pose, KITTI format), got " +
                              std::to_string(fields.size()) + " fields");
+      }
       Eigen::Matrix<double, 3, 4> m;
-      for (int k = 0; k < 12; ++k) m(k / 4, k % 4) = ParseNumber(fields[k], file, line);
+      for (int k = 0; k < 12; ++k) {
+        m(k / 4, k % 4) = ParseNumber(fields[k], file, line);
+      }
       const Eigen::Matrix3d r = m.leftCols<3>();
       const double off = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-      if (off > kRotationTolerance || r.determinant() <= 0)
+      if (off > kRotationTolerance || r.determinant() <= 0) {
         throw InputError(file, line,
                          "expected an orthonormal rotation with determinant +1 (|R^T R - I| = " +
                              FormatNumber(off) + ")");
+      }
       Pose pose = Pose::Identity();
       pose.linear() = NearestRotation(r);
       pose.translation() = m.col(3);
@@ -130,18 +153,23 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format) {
     ReadFrameIndexFile(file, trajectory);
   } else {
     ForEachDataLine(file, [&](const std::vector<std::string>& fields, int line) {
-      if (fields.size() != 8)
+      if (fields.size() != 8) {
         throw InputError(file, line,
                          "expected 8 fields 't x y z qx qy qz qw' (TUM format), got " +
                              std::to_string(fields.size()));
+      }
       double v[8];
-      for (int k = 0; k < 8; ++k) v[k] = ParseNumber(fields[k], file, line);
-      if (!trajectory.timestamps.empty() && v[0] < trajectory.timestamps.back())
+      for (int k = 0; k < 8; ++k) {
+        v[k] = ParseNumber(fields[k], file, line);
+      }
+      if (!trajectory.timestamps.empty() && v[0] < trajectory.timestamps.back()) {
         throw InputError(file, line, "expected non-decreasing timestamps");
+      }
       Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-      if (std::abs(q.norm() - 1.0) > kRotationTolerance)
+      if (std::abs(q.norm() - 1.0) > kRotationTolerance) {
         throw InputError(file, line,
                          "expected a unit quaternion (norm " + FormatNumber(q.norm()) + ")");
+      }
       q.normalize();
       Pose pose = Pose::Identity();
       pose.linear() = q.toRotationMatrix();
@@ -163,17 +191,23 @@ void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
     WriteFileAtomically(file, [&](std::ostream& out) {
       for (const Pose& pose : trajectory.poses) {
         const Eigen::Matrix<double, 3, 4> m = pose.matrix().topRows<3>();
-        for (int k = 0; k < 12; ++k) out << (k ? " " : "") << FormatNumber(m(k / 4, k % 4));
+        for (int k = 0; k < 12; ++k) {
+          out << (k ? " " : "") << FormatNumber(m(k / 4, k % 4));
+        }
         out << '\n';
       }
     });
     bool contiguous = true;
-    for (size_t i = 0; i < trajectory.frames.size(); ++i)
+    for (size_t i = 0; i < trajectory.frames.size(); ++i) {
       contiguous &= trajectory.frames[i] == int(i);
-    if (!contiguous)
+    }
+    if (!contiguous) {
       WriteFileAtomically(FrameIndexPathFor(file), [&](std::ostream& out) {
-        for (int frame : trajectory.frames) out << frame << '\n';
+        for (int frame : trajectory.frames) {
+          out << frame << '\n';
+        }
       });
+    }
     return;
   }
   WriteFileAtomically(file, [&](std::ostream& out) {
@@ -193,15 +227,23 @@ void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
 
 TrajectoryFormat GuessTrajectoryFormat(const std::string& file) {
   std::ifstream in(file);
-  if (!in) throw InputError(file, "cannot open the trajectory file");
+  if (!in) {
+    throw InputError(file, "cannot open the trajectory file");
+  }
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
-    if (!IsDataLine(line)) continue;
+    if (!IsDataLine(line)) {
+      continue;
+    }
     const size_t n = SplitFields(line).size();
-    if (n == 12) return TrajectoryFormat::kKitti;
-    if (n == 8) return TrajectoryFormat::kTum;
+    if (n == 12) {
+      return TrajectoryFormat::kKitti;
+    }
+    if (n == 8) {
+      return TrajectoryFormat::kTum;
+    }
     throw InputError(file, line_number,
                      "expected 12 fields (KITTI) or 8 fields (TUM), got " + std::to_string(n));
   }

@@ -28,8 +28,12 @@ void CheckConsistent(const Trajectory& t, const char* which) {
 // argmin, which evo uses).
 size_t NearestIndex(const std::vector<double>& stamps, double t) {
   const size_t p = size_t(std::lower_bound(stamps.begin(), stamps.end(), t) - stamps.begin());
-  if (p == 0) return 0;
-  if (p == stamps.size()) return p - 1;
+  if (p == 0) {
+    return 0;
+  }
+  if (p == stamps.size()) {
+    return p - 1;
+  }
   return (t - stamps[p - 1]) <= (stamps[p] - t) ? p - 1 : p;
 }
 
@@ -68,7 +72,9 @@ struct RpeAccumulator {
     ++n;
   }
   RpeResult Result(int delta) const {
-    if (n == 0) return {kNaN, kNaN, kNaN, kNaN, 0, delta};
+    if (n == 0) {
+      return {kNaN, kNaN, kNaN, kNaN, 0, delta};
+    }
     const double dn = double(n);
     return {std::sqrt(t_sq / dn), std::sqrt(r_sq / dn), t_sum / dn, r_sum / dn, n, delta};
   }
@@ -102,10 +108,14 @@ TrajectoryAssociation Associate(const Trajectory& gt, const Trajectory& est,
     case Mode::kFrame: {
       CSLAM_CHECK(gt.HasFrames() && est.HasFrames(), "frame association needs frames on both");
       std::unordered_map<int, size_t> est_of_frame;
-      for (size_t k = 0; k < est.size(); ++k) est_of_frame.emplace(est.frames[k], k);
+      for (size_t k = 0; k < est.size(); ++k) {
+        est_of_frame.emplace(est.frames[k], k);
+      }
       for (size_t k = 0; k < gt.size(); ++k) {
         const auto it = est_of_frame.find(gt.frames[k]);
-        if (it == est_of_frame.end()) continue;
+        if (it == est_of_frame.end()) {
+          continue;
+        }
         out.gt.push_back(k);
         out.est.push_back(it->second);
       }
@@ -121,10 +131,14 @@ TrajectoryAssociation Associate(const Trajectory& gt, const Trajectory& est,
       const bool est_is_short = est.size() <= gt.size();
       const std::vector<double>& short_stamps = est_is_short ? est.timestamps : gt.timestamps;
       const std::vector<double>& long_stamps = est_is_short ? gt.timestamps : est.timestamps;
-      if (long_stamps.empty()) break;
+      if (long_stamps.empty()) {
+        break;
+      }
       for (size_t k = 0; k < short_stamps.size(); ++k) {
         const size_t m = NearestIndex(long_stamps, short_stamps[k]);
-        if (std::abs(long_stamps[m] - short_stamps[k]) > options.max_time_difference_s) continue;
+        if (std::abs(long_stamps[m] - short_stamps[k]) > options.max_time_difference_s) {
+          continue;
+        }
         out.gt.push_back(est_is_short ? m : k);
         out.est.push_back(est_is_short ? k : m);
       }
@@ -178,7 +192,9 @@ RpeResult ComputeRpePerFrame(const Trajectory& gt, const Trajectory& est, int de
   const PosePairs p = Paired(gt, est, association);
   RpeAccumulator acc;
   const size_t step = size_t(delta);
-  for (size_t i = 0; i + step < p.gt.size(); i += step) acc.Add(RelativeError(p, i, i + step));
+  for (size_t i = 0; i + step < p.gt.size(); i += step) {
+    acc.Add(RelativeError(p, i, i + step));
+  }
   return acc.Result(delta);
 }
 
@@ -187,16 +203,24 @@ RpeResult ComputeRpeAllPairs(const Trajectory& gt, const Trajectory& est, size_t
   const PosePairs p = Paired(gt, est, association);
   const size_t n = p.gt.size();
   RpeAccumulator acc;
-  if (n < 2 || max_pairs == 0) return acc.Result(0);
+  if (n < 2 || max_pairs == 0) {
+    return acc.Result(0);
+  }
   if (n * (n - 1) <= max_pairs) {
-    for (size_t i = 0; i < n; ++i)
-      for (size_t j = 0; j < n; ++j)
-        if (i != j) acc.Add(RelativeError(p, i, j));
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t j = 0; j < n; ++j) {
+        if (i != j) {
+          acc.Add(RelativeError(p, i, j));
+        }
+      }
+    }
   } else {
     std::mt19937 rng(seed);
     while (acc.n < max_pairs) {
       const size_t i = UniformIndex(rng, n), j = UniformIndex(rng, n);
-      if (i != j) acc.Add(RelativeError(p, i, j));
+      if (i != j) {
+        acc.Add(RelativeError(p, i, j));
+      }
     }
   }
   return acc.Result(0);
@@ -207,16 +231,23 @@ KittiSegmentError ComputeKittiSegmentErrors(const Trajectory& gt, const Trajecto
   const PosePairs p = Paired(gt, est, association);
   KittiSegmentError out{kNaN, kNaN, 0, false};
   const size_t n = p.gt.size();
-  if (n < 2) return out;
+  if (n < 2) {
+    return out;
+  }
   std::vector<double> dist(n, 0.0);
-  for (size_t k = 1; k < n; ++k)
+  for (size_t k = 1; k < n; ++k) {
     dist[k] = dist[k - 1] + (p.gt[k].translation() - p.gt[k - 1].translation()).norm();
+  }
   double t_sum = 0, r_sum = 0;
   for (size_t first = 0; first < n; first += kKittiFirstFrameStep) {
     for (double length : kKittiSegmentLengthsM) {
       size_t last = first;
-      while (last < n && !(dist[last] > dist[first] + length)) ++last;
-      if (last == n) continue;
+      while (last < n && !(dist[last] > dist[first] + length)) {
+        ++last;
+      }
+      if (last == n) {
+        continue;
+      }
       const Pose delta_gt = p.gt[first].inverse() * p.gt[last];
       const Pose delta_est = p.est[first].inverse() * p.est[last];
       const Pose error = delta_est.inverse() * delta_gt;
@@ -225,7 +256,9 @@ KittiSegmentError ComputeKittiSegmentErrors(const Trajectory& gt, const Trajecto
       ++out.segments;
     }
   }
-  if (out.segments == 0) return out;
+  if (out.segments == 0) {
+    return out;
+  }
   out.defined = true;
   out.t_rel_percent = 100.0 * t_sum / double(out.segments);
   out.r_rel_deg_per_m = (180.0 / M_PI) * r_sum / double(out.segments);
@@ -234,8 +267,9 @@ KittiSegmentError ComputeKittiSegmentErrors(const Trajectory& gt, const Trajecto
 
 double PathLength(const Trajectory& trajectory) {
   double length = 0;
-  for (size_t k = 1; k < trajectory.size(); ++k)
+  for (size_t k = 1; k < trajectory.size(); ++k) {
     length += (trajectory.poses[k].translation() - trajectory.poses[k - 1].translation()).norm();
+  }
   return length;
 }
 
