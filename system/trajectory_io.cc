@@ -207,6 +207,13 @@ void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
           out << frame << '\n';
         }
       });
+    } else {
+      // A stale index file from an earlier write would otherwise renumber this trajectory.
+      std::error_code ec;
+      std::filesystem::remove(FrameIndexPathFor(file), ec);
+      if (ec)
+        throw OutputError(FrameIndexPathFor(file),
+                          "cannot remove the stale frame index: " + ec.message());
     }
     return;
   }

@@ -23,7 +23,8 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format);
 /// the same double. TUM: "t x y z qx qy qz qw" separated by single spaces, the timestamp being
 /// the frame index when the trajectory has no timestamps. KITTI: 12 numbers row-major 3x4;
 /// when the frames are not exactly 0, 1, ..., n-1 the frame indices are also written, one per
-/// line, to FrameIndexPathFor(file) so that ReadTrajectory restores them.
+/// line, to FrameIndexPathFor(file) so that ReadTrajectory restores them (otherwise an old
+/// index file there is removed).
 void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
                      TrajectoryFormat format);
 

@@ -103,6 +103,11 @@ TEST_F(TrajectoryIo, KittiObjectTrajectoryKeepsItsFrames) {
   WriteTrajectory(t, path, TrajectoryFormat::kKitti);
   ASSERT_TRUE(fs::exists(FrameIndexPathFor(path)));
   EXPECT_EQ(ReadTrajectory(path, TrajectoryFormat::kKitti).frames, t.frames);
+  // Rewritten with frames 0..n-1, the stale index file must go.
+  t.frames = {0, 1, 2, 3};
+  WriteTrajectory(t, path, TrajectoryFormat::kKitti);
+  EXPECT_FALSE(fs::exists(FrameIndexPathFor(path)));
+  EXPECT_EQ(ReadTrajectory(path, TrajectoryFormat::kKitti).frames, t.frames);
 }
 
 TEST_F(TrajectoryIo, TumWithoutTimestampsWritesFrameIndices) {
