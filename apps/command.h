@@ -15,5 +15,6 @@ struct Command {
 };
 
 // One declaration per subcommand file, in the order `cslam --help` lists them.
+Command AddEvalCommand(CLI::App& app);
 
 }  // namespace cslam::apps

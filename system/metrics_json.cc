@@ -1,0 +1,176 @@
+#include "system/metrics_json.h"
+
+#include <cmath>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace cslam {
+
+namespace {
+
+using nlohmann::json;
+
+// NaN and infinity are "unavailable" too: JSON has no spelling for them.
+template <typename T>
+json Value(const std::optional<T>& v) {
+  if (!v) {
+    return nullptr;
+  }
+  if constexpr (std::is_floating_point_v<T>) {
+    if (!std::isfinite(*v)) {
+      return nullptr;
+    }
+  }
+  return *v;
+}
+
+template <typename T>
+void Read(const json& object, const char* key, std::optional<T>& out) {
+  out.reset();
+  const auto it = object.find(key);
+  if (it == object.end() || it->is_null()) {
+    return;
+  }
+  out = it->get<T>();
+}
+
+const json& Child(const json& object, const char* key) {
+  static const json kEmpty = json::object();
+  const auto it = object.find(key);
+  return it == object.end() || it->is_null() ? kEmpty : *it;
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const RunMetrics& m) {
+  json per_object = json::array();
+  for (const auto& o : m.objects.per_object) {
+    per_object.push_back({{"gt_object", o.gt_object},
+                          {"cluster", Value(o.cluster)},
+                          {"landmarks", Value(o.landmarks)},
+                          {"ate_m", Value(o.ate_m)},
+                          {"rpe_frame_t_m", Value(o.rpe_frame_t_m)},
+                          {"rpe_frame_r_rad", Value(o.rpe_frame_r_rad)},
+                          {"rpe_pairs_t_m", Value(o.rpe_pairs_t_m)},
+                          {"rpe_pairs_r_rad", Value(o.rpe_pairs_r_rad)},
+                          {"found", o.found}});
+  }
+  json j;
+  j["sequence"] = m.sequence;
+  j["frames"] = Value(m.frames);
+  j["method"] = m.method;
+  j["camera"] = {{"ate_m", Value(m.camera.ate_m)},
+                 {"ate_sim3_m", Value(m.camera.ate_sim3_m)},
+                 {"sim3_scale", Value(m.camera.sim3_scale)},
+                 {"rpe_frame_t_m", Value(m.camera.rpe_frame_t_m)},
+                 {"rpe_frame_r_rad", Value(m.camera.rpe_frame_r_rad)},
+                 {"rpe_pairs_t_m", Value(m.camera.rpe_pairs_t_m)},
+                 {"rpe_pairs_r_rad", Value(m.camera.rpe_pairs_r_rad)},
+                 {"path_length_m", Value(m.camera.path_length_m)},
+                 {"gt_path_length_m", Value(m.camera.gt_path_length_m)}};
+  j["objects"] = {{"ate_m", Value(m.objects.ate_m)},
+                  {"rpe_frame_t_m", Value(m.objects.rpe_frame_t_m)},
+                  {"rpe_frame_r_rad", Value(m.objects.rpe_frame_r_rad)},
+                  {"rpe_pairs_t_m", Value(m.objects.rpe_pairs_t_m)},
+                  {"rpe_pairs_r_rad", Value(m.objects.rpe_pairs_r_rad)},
+                  {"matched", Value(m.objects.matched)},
+                  {"gt", Value(m.objects.gt)},
+                  {"per_object", per_object}};
+  j["clustering"] = {{"accuracy", Value(m.clustering.accuracy)},
+                     {"vi", Value(m.clustering.vi)},
+                     {"clusters", Value(m.clustering.clusters)},
+                     {"gt_objects", Value(m.clustering.gt_objects)}};
+  j["landmarks"] = {{"rmse_m", Value(m.landmarks.rmse_m)}, {"count", Value(m.landmarks.count)}};
+  j["log_chi2"] = Value(m.log_chi2);
+  j["timing"] = {{"total_s", Value(m.timing.total_s)},
+                 {"frontend_ms_per_frame", Value(m.timing.frontend_ms_per_frame)},
+                 {"backend_ms_per_window", Value(m.timing.backend_ms_per_window)},
+                 {"hz", Value(m.timing.hz)}};
+  j["conventions"] = {
+      {"ate",
+       "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each "
+       "aligned on their own"},
+      {"rpe_frame",
+       "RMSE over consecutive frames (delta 1), E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), evo_rpe default"},
+      {"rpe_pairs",
+       "RMSE over all ordered pairs i != j, randomly subsampled to 10000 (mt19937 seed 42)"},
+      {"vi", "natural logarithm (nats)"},
+      {"accuracy", "Hungarian matching on the contingency table / all landmarks"}};
+  return j;
+}
+
+RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source) {
+  RunMetrics m;
+  try {
+    if (!j.is_object()) {
+      throw InputError(source, "expected a JSON object");
+    }
+    if (j.contains("sequence") && j["sequence"].is_string()) {
+      m.sequence = j["sequence"].get<std::string>();
+    }
+    if (j.contains("method") && j["method"].is_string()) {
+      m.method = j["method"].get<std::string>();
+    }
+    Read(j, "frames", m.frames);
+    const json& c = Child(j, "camera");
+    Read(c, "ate_m", m.camera.ate_m);
+    Read(c, "ate_sim3_m", m.camera.ate_sim3_m);
+    Read(c, "sim3_scale", m.camera.sim3_scale);
+    Read(c, "rpe_frame_t_m", m.camera.rpe_frame_t_m);
+    Read(c, "rpe_frame_r_rad", m.camera.rpe_frame_r_rad);
+    Read(c, "rpe_pairs_t_m", m.camera.rpe_pairs_t_m);
+    Read(c, "rpe_pairs_r_rad", m.camera.rpe_pairs_r_rad);
+    Read(c, "path_length_m", m.camera.path_length_m);
+    Read(c, "gt_path_length_m", m.camera.gt_path_length_m);
+    const json& o = Child(j, "objects");
+    Read(o, "ate_m", m.objects.ate_m);
+    Read(o, "rpe_frame_t_m", m.objects.rpe_frame_t_m);
+    Read(o, "rpe_frame_r_rad", m.objects.rpe_frame_r_rad);
+    Read(o, "rpe_pairs_t_m", m.objects.rpe_pairs_t_m);
+    Read(o, "rpe_pairs_r_rad", m.objects.rpe_pairs_r_rad);
+    Read(o, "matched", m.objects.matched);
+    Read(o, "gt", m.objects.gt);
+    if (o.contains("per_object") && o["per_object"].is_array()) {
+      for (const json& e : o["per_object"]) {
+        RunMetrics::PerObject p;
+        if (e.contains("gt_object") && !e["gt_object"].is_null()) {
+          p.gt_object = e["gt_object"].get<int>();
+        }
+        Read(e, "cluster", p.cluster);
+        Read(e, "landmarks", p.landmarks);
+        Read(e, "ate_m", p.ate_m);
+        Read(e, "rpe_frame_t_m", p.rpe_frame_t_m);
+        Read(e, "rpe_frame_r_rad", p.rpe_frame_r_rad);
+        Read(e, "rpe_pairs_t_m", p.rpe_pairs_t_m);
+        Read(e, "rpe_pairs_r_rad", p.rpe_pairs_r_rad);
+        p.found = e.value("found", false);
+        m.objects.per_object.push_back(p);
+      }
+    }
+    const json& cl = Child(j, "clustering");
+    Read(cl, "accuracy", m.clustering.accuracy);
+    Read(cl, "vi", m.clustering.vi);
+    Read(cl, "clusters", m.clustering.clusters);
+    Read(cl, "gt_objects", m.clustering.gt_objects);
+    const json& l = Child(j, "landmarks");
+    Read(l, "rmse_m", m.landmarks.rmse_m);
+    Read(l, "count", m.landmarks.count);
+    Read(j, "log_chi2", m.log_chi2);
+    const json& t = Child(j, "timing");
+    Read(t, "total_s", m.timing.total_s);
+    Read(t, "frontend_ms_per_frame", m.timing.frontend_ms_per_frame);
+    Read(t, "backend_ms_per_window", m.timing.backend_ms_per_window);
+    Read(t, "hz", m.timing.hz);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(source, std::string("unexpected value type: ") + e.what());
+  }
+  return m;
+}
+
+void WriteMetricsJson(const RunMetrics& metrics, const std::string& path) {
+  const std::string text = ToJson(metrics).dump(2);
+  WriteFileAtomically(path, [&](std::ostream& out) { out << text << '\n'; });
+}
+
+}  // namespace cslam

@@ -1,0 +1,72 @@
+#pragma once
+// metrics.json of a run (docs/formats.md): one struct per JSON object, every number optional —
+// an unknown or unavailable figure is written as JSON null.
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cslam {
+
+/// The contents of metrics.json; field names are the JSON keys.
+struct RunMetrics {
+  /// Camera trajectory errors (metres, radians). RPE: RMSE; per-frame delta = 1 frame,
+  /// all-pairs over ≤ 10 000 random ordered pairs (seed 42).
+  struct Camera {
+    std::optional<double> ate_m, ate_sim3_m, sim3_scale;
+    std::optional<double> rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    std::optional<double> path_length_m, gt_path_length_m;
+  };
+  /// One ground-truth object and the cluster matched to it (if any).
+  struct PerObject {
+    int gt_object = -1;
+    std::optional<int> cluster;
+    std::optional<int> landmarks;
+    std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    bool found = false;
+  };
+  /// Object trajectory errors averaged over matched objects, each aligned on its own.
+  struct Objects {
+    std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    std::optional<int> matched, gt;
+    std::vector<PerObject> per_object;
+  };
+  /// Clustering against ground-truth labels; vi in nats (natural logarithm).
+  struct Clustering {
+    std::optional<double> accuracy, vi;
+    std::optional<int> clusters, gt_objects;
+  };
+  /// Landmark position RMSE over all (landmark, frame) pairs, metres.
+  struct Landmarks {
+    std::optional<double> rmse_m;
+    std::optional<long long> count;
+  };
+  /// Wall-clock figures.
+  struct Timing {
+    std::optional<double> total_s, frontend_ms_per_frame, backend_ms_per_window, hz;
+  };
+
+  std::string sequence;
+  std::optional<int> frames;
+  std::string method;
+  Camera camera;
+  Objects objects;
+  Clustering clustering;
+  Landmarks landmarks;
+  std::optional<double> log_chi2;
+  Timing timing;
+};
+
+/// The JSON document: the keys above, plus "conventions" naming each metric's statistic,
+/// delta and logarithm base (implementations differ; readers should not have to guess).
+nlohmann::json ToJson(const RunMetrics& metrics);
+
+/// Inverse of ToJson (missing keys and nulls become empty optionals). Throws InputError(source)
+/// when a present value has the wrong type.
+RunMetrics RunMetricsFromJson(const nlohmann::json& json,
+                              const std::string& source = "metrics.json");
+
+/// Writes ToJson(metrics), indented, atomically to `path`.
+void WriteMetricsJson(const RunMetrics& metrics, const std::string& path);
+
+}  // namespace cslam

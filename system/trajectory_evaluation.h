@@ -1,0 +1,25 @@
+#pragma once
+// The metrics.json trajectory sections filled from trajectories, shared by `cslam eval`,
+// `cslam run` and the benchmarks so every caller reports the same protocol.
+#include "system/metrics_json.h"
+#include "system/trajectory.h"
+#include "system/trajectory_metrics.h"
+
+namespace cslam {
+
+/// Camera section: ATE (SE(3) and Sim(3) with its scale), RPE per frame (delta 1) and all
+/// pairs (≤ 10 000, seed 42), both path lengths. Figures that cannot be computed (too few
+/// associated poses) stay empty.
+RunMetrics::Camera EvaluateCameraTrajectory(const Trajectory& gt, const Trajectory& est,
+                                            const AssociationOptions& association = {});
+
+/// One object's figures: its trajectory aligned on its own (SE(3) ATE), RPE per frame and all
+/// pairs. Sets `found` = true; gt_object, cluster and landmarks are left to the caller.
+RunMetrics::PerObject EvaluateObjectTrajectory(const Trajectory& gt, const Trajectory& est,
+                                               const AssociationOptions& association = {});
+
+/// Fills the averages of `objects` (ate_m, rpe_*) over its found per_object entries that have
+/// the figure, `matched` = number found, `gt` = number of entries.
+void SummariseObjects(RunMetrics::Objects& objects);
+
+}  // namespace cslam
