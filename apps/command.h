@@ -16,4 +16,7 @@ struct Command {
 
 // One declaration per subcommand file, in the order `cslam --help` lists them.
 
+/// `cslam synth`: generates a synthetic ground-truth sequence (system/synthetic_scene.h).
+Command AddSynthCommand(CLI::App& app);
+
 }  // namespace cslam::apps

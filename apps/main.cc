@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
 
   std::vector<cslam::apps::Command> commands = {
+      cslam::apps::AddSynthCommand(app),
   };
 
   try {
