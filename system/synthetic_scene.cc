@@ -106,7 +106,7 @@ struct Preset {
 };
 
 constexpr Preset kOutdoor{10.0, 0.50, 1.0, 55.0, 200, 750, 5, 10, 0.16, 2.5, 0.6, 1.6};
-constexpr Preset kIndoor{30.0, 0.10, 0.3, 8.0, 190, 300, 2, 5, 4.0, 40.0, 0.5, 1.6};
+constexpr Preset kIndoor{30.0, 0.10, 0.3, 8.0, 190, 300, 2, 5, 5.0, 40.0, 0.6, 1.6};
 
 StereoCamera PaperCamera(double baseline) {
   StereoCamera cam;
@@ -501,7 +501,7 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
   const std::vector<double> t = Times(frames, d.rate_hz);
 
   // Room [-W/2, W/2] × [-D/2, D/2] × [0, H], seen from inside; furniture along the walls.
-  const double W = scene.Uniform(6, 10), D = scene.Uniform(5, 8), H = scene.Uniform(2.6, 3.2);
+  const double W = scene.Uniform(6, 10), D = scene.Uniform(6, 9), H = scene.Uniform(2.6, 3.2);
   SceneBody room;
   room.kind = "static";
   {
@@ -569,7 +569,7 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
   const double span = traj.Uniform(0.5, 1.0) * (0.5 * W - 1.3);
   const double v_cam = traj.Uniform(0.3, 2.1);
   const double omega_cam = std::min(2.0, v_cam * kPi / (2 * span)), phase_cam = traj.Uniform(0, 2 * kPi);
-  const double y_cam = -0.5 * D + traj.Uniform(1.3, 1.6), h0 = traj.Uniform(1.3, 1.7);
+  const double y_cam = -0.5 * D + traj.Uniform(1.2, 1.4), h0 = traj.Uniform(1.3, 1.7);
   Eigen::Matrix<double, 8, 2> wob;  // (omega, phase) of the wobbles
   for (int i = 0; i < 8; ++i) wob.row(i) << 2 * kPi / traj.Uniform(1.5, 8), traj.Uniform(0, 2 * kPi);
   auto wobble = [&](int i, double time) { return std::sin(wob(i, 0) * time + wob(i, 1)); };
@@ -617,7 +617,7 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
       const double sway = 2 * amp.row(2).sum();
       const double z_lo = radius + 0.05 + sway, z_hi = std::min(1.5, H - 0.3 - radius - sway);
       const Eigen::Vector3d c0(traj.Uniform(-0.5, 0.5) * (W - 2.4),
-                               traj.Uniform(y_cam + 1.2, 0.5 * D - 1.0),
+                               traj.Uniform(y_cam + 0.9, 0.5 * D - 1.0),
                                z_hi > z_lo ? traj.Uniform(z_lo, z_hi) : z_lo);
       const double yaw0 = traj.Uniform(0, 2 * kPi), yaw_rate = traj.Sign() * traj.Uniform(0.2, 1.0);
       const double tilt = traj.Uniform(0.05, 0.25), tilt_w = 2 * kPi / traj.Uniform(2, 6),
@@ -633,7 +633,7 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
         const double tilt_now = tilt * std::sin(tilt_w * t[f] + tilt_phase);
         poses[f] = MakePose(Rz(yaw0 + yaw_rate * t[f]) * Ry(tilt_now) * Rx(0.5 * tilt_now), c);
         if (std::abs(c.x()) > 0.5 * W - 1.0 - radius || c.y() > 0.5 * D - 1.0 - radius ||
-            c.y() < y_cam + 0.8 + radius ||
+            c.y() < y_cam + 0.6 + radius ||
             c.z() < radius + 0.02 || c.z() > H - 0.3 - radius)
           ok = false;
         if ((c - cam_pos[f]).norm() < radius + 0.5) ok = false;
