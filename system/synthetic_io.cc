@@ -1,9 +1,11 @@
 #include "system/synthetic_io.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -237,13 +239,13 @@ SyntheticSequence ReadSynthetic(const std::string& dir) {
   {
     const auto cam = ReadKeyValues(dir, kCameraFile,
                                    {"fx", "fy", "cx", "cy", "baseline", "width", "height"}, &lines);
-    LineReader probe(dir, kCameraFile, ' ');  // for error messages only
+    const std::string camera_path = (fs::path(dir) / kCameraFile).string();
     auto num = [&](const std::string& key) {
       const std::string& s = cam.at(key);
       double v = 0;
       const auto res = std::from_chars(s.data(), s.data() + s.size(), v);
       if (res.ec != std::errc() || res.ptr != s.data() + s.size() || !std::isfinite(v))
-        throw InputError(probe.path(), lines.at(key), "expected a finite number for " + key + ", got '" + s + "'");
+        throw InputError(camera_path, lines.at(key), "expected a finite number for " + key + ", got '" + s + "'");
       return v;
     };
     StereoCamera& c = seq.camera;
@@ -253,7 +255,7 @@ SyntheticSequence ReadSynthetic(const std::string& dir) {
     try {
       c.Check();
     } catch (const ConfigError& e) {
-      throw InputError(probe.path(), e.what());
+      throw InputError(camera_path, e.what());
     }
   }
 

@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <numbers>
 #include <random>
 
@@ -286,8 +285,10 @@ struct SpeedProfile {
 Draft BuildOutdoor(const SyntheticOptions& options, const StereoCamera& cam, Rng& scene, Rng& traj) {
   Draft d;
   d.rate_hz = kOutdoor.rate_hz;
-  const int frames = options.frames > 0 ? options.frames
-                                         : scene.Int(kOutdoor.min_frames, kOutdoor.max_frames);
+  // Both counts are always drawn, so overriding one leaves the rest of the scene unchanged.
+  const int drawn_frames = scene.Int(kOutdoor.min_frames, kOutdoor.max_frames);
+  const int drawn_objects = scene.Int(kOutdoor.min_objects, kOutdoor.max_objects);
+  const int frames = options.frames > 0 ? options.frames : drawn_frames;
   const std::vector<double> t = Times(frames, d.rate_hz);
   const double duration = t.back();
 
@@ -389,8 +390,7 @@ Draft BuildOutdoor(const SyntheticOptions& options, const StereoCamera& cam, Rng
     while (f + 1 < frames && cam_xy[f].x() < x) ++f;
     return t[f] - (cam_xy[f].x() - x) / v_cam;
   };
-  const int num_cars = options.objects >= 0 ? options.objects
-                                            : scene.Int(kOutdoor.min_objects, kOutdoor.max_objects);
+  const int num_cars = options.objects >= 0 ? options.objects : drawn_objects;
   const int min_visible = std::min(25, frames / 2);
   // Footprints as two discs each (front and back half of a car), so cars in neighbouring lanes
   // may pass each other but never overlap.
@@ -496,8 +496,10 @@ Draft BuildOutdoor(const SyntheticOptions& options, const StereoCamera& cam, Rng
 Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng& scene, Rng& traj) {
   Draft d;
   d.rate_hz = kIndoor.rate_hz;
-  const int frames = options.frames > 0 ? options.frames
-                                         : scene.Int(kIndoor.min_frames, kIndoor.max_frames);
+  // Both counts are always drawn, so overriding one leaves the rest of the scene unchanged.
+  const int drawn_frames = scene.Int(kIndoor.min_frames, kIndoor.max_frames);
+  const int drawn_objects = scene.Int(kIndoor.min_objects, kIndoor.max_objects);
+  const int frames = options.frames > 0 ? options.frames : drawn_frames;
   const std::vector<double> t = Times(frames, d.rate_hz);
 
   // Room [-W/2, W/2] × [-D/2, D/2] × [0, H], seen from inside; furniture along the walls.
@@ -584,8 +586,7 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
   }
 
   // Moving objects: one or two stacked boxes each, drifting smoothly (0.1–1 m/s) and turning.
-  const int num_objects = options.objects >= 0 ? options.objects
-                                               : scene.Int(kIndoor.min_objects, kIndoor.max_objects);
+  const int num_objects = options.objects >= 0 ? options.objects : drawn_objects;
   const int min_visible = static_cast<int>(0.6 * frames);
   std::vector<std::pair<std::vector<Eigen::Vector3d>, double>> accepted;
   for (int k = 0; k < num_objects; ++k) {
@@ -751,6 +752,8 @@ SyntheticSequence GenerateSynthetic(const SyntheticOptions& options) {
   SyntheticSequence seq;
   seq.name = options.preset + "_seed" + std::to_string(options.seed);
   seq.camera = PaperCamera(preset.baseline_m);
+  const double density_scale =
+      options.landmark_density * scene_rng.Uniform(preset.min_density_scale, preset.max_density_scale);
   Draft draft = outdoor ? BuildOutdoor(options, seq.camera, scene_rng, traj_rng)
                         : BuildIndoor(options, seq.camera, scene_rng, traj_rng);
   const int frames = static_cast<int>(draft.g_from_cam.size());
@@ -768,8 +771,6 @@ SyntheticSequence GenerateSynthetic(const SyntheticOptions& options) {
   for (auto& q : seq.geometry.bodies[0].quads) q = q.Transformed(cam0_from_g);
 
   // Surface points, grouped by quad so whole back-facing or off-screen quads are skipped.
-  const double density_scale =
-      options.landmark_density * scene_rng.Uniform(preset.min_density_scale, preset.max_density_scale);
   std::vector<SurfacePoint> points;
   std::vector<std::vector<std::vector<int>>> points_of_quad(objects);
   for (int o = 0; o < objects; ++o) {
@@ -887,7 +888,7 @@ SyntheticSequence GenerateSynthetic(const SyntheticOptions& options) {
       seq.observations.Add(landmark, f, x, cov);
     }
   }
-  // Frames where nothing is seen still count.
+  // The table only knows frames up to the last observation; the ground truth has them all.
   if (seq.observations.num_frames() < frames)
     GetLogger("system")->warn("synthetic: the last frames of {} have no observations", seq.name);
 
