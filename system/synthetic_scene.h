@@ -41,7 +41,8 @@ struct SyntheticSequence {
   std::string name;                                  ///< e.g. "outdoor_seed1"
   StereoCamera camera;
   std::vector<double> timestamps;                    ///< seconds, per frame
-  TrackletTable observations;                        ///< noisy (uL, vL, uR) + pixel covariance
+  TrackletTable observations;  ///< noisy (uL, vL, uR) + pixel covariance; its num_frames() may
+                               ///< be < num_frames() when the last frames see nothing
   std::vector<Pose> world_from_cam;                  ///< per frame; [0] = identity
   std::vector<std::vector<Pose>> world_from_object;  ///< [object][frame]; object 0 = static (identity)
   std::vector<int> landmark_object;                  ///< [landmark id] -> object id (0 = static)
