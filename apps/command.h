@@ -17,4 +17,7 @@ struct Command {
 // One declaration per subcommand file, in the order `cslam --help` lists them.
 Command AddEvalCommand(CLI::App& app);
 
+/// `cslam synth`: generates a synthetic ground-truth sequence (system/synthetic_scene.h).
+Command AddSynthCommand(CLI::App& app);
+
 }  // namespace cslam::apps

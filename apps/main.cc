@@ -23,7 +23,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
 
   std::vector<cslam::apps::Command> commands = {
+<<<<<<< HEAD
       cslam::apps::AddEvalCommand(app),
+=======
+      cslam::apps::AddSynthCommand(app),
+>>>>>>> synth
   };
 
   try {
