@@ -3,14 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace cslam {
 
 void HacOptions::Check() const {
   CheckOption(std::isfinite(epsilon), "hac.epsilon", "must be a finite number", epsilon);
+  CheckOption(max_dense_items >= 0 && max_dense_items <= 16384, "hac.max_dense_items",
+              "must be in [0, 16384]", max_dense_items);
 }
 
-void HacOptions::Load(OptionsReader& reader) { reader.Read("epsilon", &epsilon); }
+void HacOptions::Load(OptionsReader& reader) {
+  reader.Read("epsilon", &epsilon);
+  reader.Read("max_dense_items", &max_dense_items);
+}
 
 namespace {
 
@@ -95,22 +101,81 @@ class LinkageRow {
   size_t size_ = 0;
 };
 
+// Heap entry: a lower bound `d` on the smallest linkage of cluster `a` (its nearest-neighbour
+// distance when computed). std heap functions build a max-heap: "Later" puts the smallest
+// (d, a) on top.
 struct HeapEntry {
   double d;
-  int a, b;  // a < b
+  int a;
 };
-// std heap functions build a max-heap: "greater" puts the smallest (d, a, b) on top.
 inline bool Later(const HeapEntry& x, const HeapEntry& y) {
   if (x.d != y.d) return x.d > y.d;
-  if (x.a != y.a) return x.a > y.a;
-  return x.b > y.b;
+  return x.a > y.a;
 }
 
-}  // namespace
-
-std::vector<int> CompleteLinkageHac(const SparseDistances& distances, const HacOptions& options) {
+// Dense engine for small n: the same algorithm on an n×n array (NaN = undefined), where a
+// merge is two linear passes instead of hash updates.
+std::vector<int> DenseHac(const SparseDistances& distances, double eps) {
   const int n = distances.size();
-  const double eps = options.epsilon;
+  const double kNone = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> dm(static_cast<size_t>(n) * n, kNone);
+  auto at = [&](int a, int b) -> double& { return dm[static_cast<size_t>(a) * n + b]; };
+  for (const auto& e : distances.entries) {
+    if (std::isnan(e.d) || e.a == e.b) continue;
+    double& v = at(e.a, e.b);
+    v = std::isnan(v) ? e.d : std::max(v, e.d);
+    at(e.b, e.a) = v;
+  }
+  std::vector<int> nn(n, -1);
+  std::vector<double> nn_d(n, 0.0);
+  std::vector<HeapEntry> heap;
+  auto rescan = [&](int a) {
+    int best = -1;
+    double best_d = 0;
+    const double* row = &dm[static_cast<size_t>(a) * n];
+    for (int b = 0; b < n; ++b)
+      if (!std::isnan(row[b]) && (best < 0 || row[b] < best_d)) best = b, best_d = row[b];
+    nn[a] = best;
+    nn_d[a] = best_d;
+    if (best >= 0 && best_d <= eps) {
+      heap.push_back({best_d, a});
+      std::push_heap(heap.begin(), heap.end(), Later);
+    }
+  };
+  for (int a = 0; a < n; ++a) rescan(a);
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  std::vector<char> active(n, 1);
+  while (!heap.empty()) {
+    std::pop_heap(heap.begin(), heap.end(), Later);
+    const HeapEntry top = heap.back();
+    heap.pop_back();
+    const int a = top.a;
+    if (!active[a] || top.d != nn_d[a]) continue;
+    const int b = nn[a];
+    if (b < 0 || !active[b] || at(a, b) != top.d) {
+      rescan(a);
+      continue;
+    }
+    const int keep = std::min(a, b), gone = std::max(a, b);
+    double* row_keep = &dm[static_cast<size_t>(keep) * n];
+    double* row_gone = &dm[static_cast<size_t>(gone) * n];
+    for (int c = 0; c < n; ++c) {
+      const double dg = row_gone[c];
+      if (c != keep && !std::isnan(dg) && !(row_keep[c] >= dg)) row_keep[c] = at(c, keep) = dg;
+      row_gone[c] = kNone;
+      at(c, gone) = kNone;
+    }
+    row_keep[gone] = kNone;
+    active[gone] = 0;
+    parent[gone] = keep;
+    rescan(keep);
+  }
+  return parent;
+}
+
+std::vector<int> SparseHac(const SparseDistances& distances, double eps) {
+  const int n = distances.size();
   std::vector<LinkageRow> rows(n);
   {
     std::vector<int> degree(n, 0);
@@ -118,7 +183,6 @@ std::vector<int> CompleteLinkageHac(const SparseDistances& distances, const HacO
       if (!std::isnan(e.d) && e.a != e.b) ++degree[e.a], ++degree[e.b];
     for (int i = 0; i < n; ++i) rows[i].Reserve(degree[i]);
   }
-  std::vector<HeapEntry> heap;
   for (const auto& e : distances.entries) {
     if (std::isnan(e.d) || e.a == e.b) continue;
     // A duplicated entry keeps its largest value (complete linkage).
@@ -126,29 +190,51 @@ std::vector<int> CompleteLinkageHac(const SparseDistances& distances, const HacO
     const double d = old ? std::max(*old, e.d) : e.d;
     rows[e.a].Set(e.b, d);
     rows[e.b].Set(e.a, d);
-    // Linkages only grow, so a pair above ε now can never merge: keep it out of the heap.
-    if (d <= eps) heap.push_back({d, std::min(e.a, e.b), std::max(e.a, e.b)});
   }
-  std::make_heap(heap.begin(), heap.end(), Later);
+
+  // Nearest-neighbour heap with lazy deletion (the "generic" scheme of Müllner 2011): each
+  // cluster's entry is a lower bound of its row minimum, because complete-linkage rows only
+  // grow — d(A∪B, C) >= d(A,C), d(B,C), and a new neighbour A∪B of C replaces B at a value
+  // >= d(B,C). An entry is trusted only when its recorded neighbour still has that exact
+  // linkage; otherwise the row is rescanned. Rows above ε never enter the heap.
+  std::vector<int> nn(n, -1);
+  std::vector<double> nn_d(n, 0.0);
+  std::vector<HeapEntry> heap;
+  auto rescan = [&](int a) {
+    int best = -1;
+    double best_d = 0;
+    rows[a].ForEach([&](int b, double d) {
+      if (best < 0 || d < best_d || (d == best_d && b < best)) best = b, best_d = d;
+    });
+    nn[a] = best;
+    nn_d[a] = best_d;
+    if (best >= 0 && best_d <= eps) {
+      heap.push_back({best_d, a});
+      std::push_heap(heap.begin(), heap.end(), Later);
+    }
+  };
+  for (int a = 0; a < n; ++a) {
+    rescan(a);
+  }
 
   std::vector<int> parent(n);  // merged item → the cluster that absorbed it
   for (int i = 0; i < n; ++i) parent[i] = i;
   std::vector<char> active(n, 1);
-  auto push = [&](int x, int y, double d) {
-    if (d > eps) return;
-    heap.push_back({d, std::min(x, y), std::max(x, y)});
-    std::push_heap(heap.begin(), heap.end(), Later);
-  };
 
   while (!heap.empty()) {
     std::pop_heap(heap.begin(), heap.end(), Later);
     const HeapEntry top = heap.back();
     heap.pop_back();
-    if (!active[top.a] || !active[top.b]) continue;
-    const double* current = rows[top.a].Find(top.b);
-    if (!current || *current != top.d) continue;  // stale: the linkage has grown since
-    // Merge the smaller row into the larger one: fewer hash updates.
-    int keep = top.a, gone = top.b;
+    const int a = top.a;
+    if (!active[a] || top.d != nn_d[a]) continue;  // superseded entry
+    const int b = nn[a];
+    const double* current = b >= 0 && active[b] ? rows[a].Find(b) : nullptr;
+    if (!current || *current != top.d) {
+      rescan(a);  // the neighbour merged or moved away: refresh the bound
+      continue;
+    }
+    // (a, b) is the globally closest pair: every other bound in the heap is >= top.d.
+    int keep = a, gone = b;
     if (rows[gone].size() > rows[keep].size()) std::swap(keep, gone);
     rows[gone].ForEach([&](int c, double d_gone) {
       if (c == keep) return;
@@ -158,20 +244,28 @@ std::vector<int> CompleteLinkageHac(const SparseDistances& distances, const HacO
         if (d_gone > *d_keep) {
           *d_keep = d_gone;
           rows[c].Set(keep, d_gone);
-          push(keep, c, d_gone);
         }
       } else {
         rows[keep].Set(c, d_gone);
         rows[c].Set(keep, d_gone);
-        push(keep, c, d_gone);
       }
     });
     rows[keep].Erase(gone);
     rows[gone].Clear();
     active[gone] = 0;
     parent[gone] = keep;
+    rescan(keep);
   }
+  return parent;
+}
 
+}  // namespace
+
+std::vector<int> CompleteLinkageHac(const SparseDistances& distances, const HacOptions& options) {
+  const int n = distances.size();
+  const std::vector<int> parent = n <= options.max_dense_items
+                                      ? DenseHac(distances, options.epsilon)
+                                      : SparseHac(distances, options.epsilon);
   // Number clusters by their smallest item.
   std::vector<int> labels(n, -1), root_label(n, -1);
   int next = 0;

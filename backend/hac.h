@@ -12,6 +12,8 @@ namespace cslam {
 struct HacOptions {
   double epsilon = 60.0;  ///< stop when the closest cluster pair is farther than this (Eq. 1
                           ///< units); 60 indoor, 90 outdoor [paper]
+  int max_dense_items = 2048;  ///< performance only (same result): up to this many items use
+                               ///< an n×n array (8 n² bytes), above it hashed sparse rows
   void Check() const;
   void Load(OptionsReader& reader);
 };

@@ -116,10 +116,23 @@ TEST(Hac, AgreesWithBruteForceOnRandomSparseMatrices) {
         e.push_back({i, j, d});
       }
     const auto want = BruteForceHac(n, e, 60.0);
-    const auto got = CompleteLinkageHac(FromEntries(n, e), Eps(60));
-    EXPECT_EQ(VariationOfInformation(got, want), 0.0) << "trial " << trial;
-    EXPECT_EQ(got, want) << "trial " << trial;  // same numbering: by smallest member
+    for (int dense_limit : {0, 2048}) {  // the sparse and the dense engine
+      HacOptions o = Eps(60);
+      o.max_dense_items = dense_limit;
+      const auto got = CompleteLinkageHac(FromEntries(n, e), o);
+      EXPECT_EQ(got, want) << "trial " << trial << " dense limit " << dense_limit;
+    }
   }
+}
+
+TEST(Hac, SparseEngineHandlesInvalidEntriesLikeTheDenseOne) {
+  HacOptions o = Eps(60);
+  o.max_dense_items = 0;
+  EXPECT_EQ(CompleteLinkageHac(
+                FromEntries(4, {{0, 1, 1}, {1, 2, 20}, {0, 3, 5}, {1, 3, 70}}), o),
+            (std::vector<int>{0, 0, 0, 1}));
+  EXPECT_EQ(CompleteLinkageHac(FromEntries(3, {{0, 1, 10}, {1, 2, 11}, {0, 2, 100}}), o),
+            (std::vector<int>{0, 0, 1}));
 }
 
 TEST(Hac, EmptyInputGivesNoLabels) {
