@@ -1,7 +1,9 @@
 #include "backend/motion_distance.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "core/options_reader.h"
 
@@ -27,164 +29,287 @@ void MotionDistanceOptions::Load(OptionsReader& reader) {
 
 namespace {
 
-// Everything the pair kernel reads about one (landmark, frame), flat for cache locality.
-// Covariances are stored as their upper triangles (xx, xy, xz, yy, yz, zz).
-struct Sample {
-  int local = 0;
-  double p[3];
-  double c[6];
-  double x[3];
-  double xc[6];
+// Per-chunk storage of every item's samples over its frame span [first, first + length):
+// structure of arrays in float, one row per field, so a pair's co-observed frames are two
+// aligned contiguous segments and the pair kernel is one branch-free SIMD loop. Frames inside a span without a sample have mask 0 and harmless filler
+// values (point 0, identity covariances). Float is enough: the first term is evaluated in two
+// passes (l* first, then Σ w (l − l*)²), so no large sums cancel; results agree with a
+// double-precision evaluation to ~1e-6 relative.
+enum Field : int {
+  kPx, kPy, kPz,
+  kC00, kC01, kC02, kC11, kC12, kC22,
+  kU, kV, kUr,
+  kX00, kX01, kX02, kX11, kX12, kX22,
+  kMask,
+  kNumFields
 };
 
-// Running sums of one pair. The first term of Eq. 1 is Σ w (l − l*)² with l* = Σ w l / Σ w,
-// evaluated in one pass as S2 − S1²/S0 on l − shift (shift = the first l) to avoid
-// cancellation. Σ log σ is accumulated as a product folded into a log only when it leaves
-// [1e-150, 1e150], i.e. about one log per several frames instead of one per frame.
-struct Accumulator {
-  int n = 0;
-  double shift = 0, s0 = 0, s1 = 0, s2 = 0;
-  double log_sum = 0, prod = 1;
-  double prior = 0;
+struct Span {
+  int first = 0;   // chunk-relative frame
+  int length = 0;
+  int offset = 0;  // column of `first` in the storage
 };
 
-void UpperTriangle(const Eigen::Matrix3d& m, double* out) {
-  out[0] = m(0, 0), out[1] = m(0, 1), out[2] = m(0, 2);
-  out[3] = m(1, 1), out[4] = m(1, 2), out[5] = m(2, 2);
-}
+constexpr int kBlock = 64;  // 64 mantissas in [1, 2) multiply to < 2^64: no float overflow
+constexpr double kLn2 = 0.69314718055994530942;
 
-// vᵀ C v for symmetric C given by its upper triangle.
-inline double QuadForm(const double* c, double v0, double v1, double v2) {
-  return c[0] * v0 * v0 + c[3] * v1 * v1 + c[5] * v2 * v2 +
-         2.0 * (c[1] * v0 * v1 + c[2] * v0 * v2 + c[4] * v1 * v2);
-}
+// Sums of pass 1 over one block of frames.
+struct BlockSums {
+  float s0 = 0, s1 = 0, count = 0, mant = 1, prior = 0;
+  int exps = 0;
+};
 
-// vᵀ C⁻¹ v for symmetric positive definite C (adjugate formula); 0 when C is singular.
-inline double InverseQuadForm(const double* c, double v0, double v1, double v2) {
-  const double a00 = c[3] * c[5] - c[4] * c[4];
-  const double a01 = c[2] * c[4] - c[1] * c[5];
-  const double a02 = c[1] * c[4] - c[2] * c[3];
-  const double a11 = c[0] * c[5] - c[2] * c[2];
-  const double a12 = c[1] * c[2] - c[0] * c[4];
-  const double a22 = c[0] * c[3] - c[1] * c[1];
-  const double det = c[0] * a00 + c[1] * a01 + c[2] * a02;
-  if (!(det > 0)) return 0.0;
-  const double adj[6] = {a00, a01, a02, a11, a12, a22};
-  return QuadForm(adj, v0, v1, v2) / det;
-}
-
-struct Kernel {
-  bool use_uncertainty;
-  bool use_prior;
-  double min_variance;
-
-  inline void operator()(const Sample& si, const Sample& sj, Accumulator& acc) const {
-    const double l0 = si.p[0] - sj.p[0], l1 = si.p[1] - sj.p[1], l2 = si.p[2] - sj.p[2];
-    const double n2 = l0 * l0 + l1 * l1 + l2 * l2;
-    const double lt = std::sqrt(n2);
-    double w = 1.0;
-    if (use_uncertainty) {
-      double c[6];
-      for (int k = 0; k < 6; ++k) c[k] = si.c[k] + sj.c[k];
-      // Eq. 2; for coincident points the Rayleigh quotient is undefined: use the mean
-      // eigenvalue.
-      double sigma = n2 > 1e-24 ? QuadForm(c, l0, l1, l2) / n2 : (c[0] + c[3] + c[5]) / 3.0;
-      sigma = std::max(sigma, min_variance);
-      w = 1.0 / sigma;
-      acc.prod *= sigma;
-      if (acc.prod < 1e-150 || acc.prod > 1e150) {
-        acc.log_sum += std::log(acc.prod);
-        acc.prod = 1.0;
-      }
+// Pass 1 over frames [b0, b1) of a pair, branch-free so it vectorises; the switches are
+// template parameters so each variant is its own straight loop.
+template <bool kUseU, bool kUsePrior, bool kIsotropic>
+void PairBlock(const float* const* A, const float* const* B, int b0, int b1, float floor,
+               float* __restrict lt, float* __restrict w, float* __restrict sig,
+               BlockSums* out) {
+  [[maybe_unused]] const float* __restrict aMask = A[kMask];
+  [[maybe_unused]] const float* __restrict bMask = B[kMask];
+  [[maybe_unused]] const float* __restrict aPx = A[kPx];
+  [[maybe_unused]] const float* __restrict bPx = B[kPx];
+  [[maybe_unused]] const float* __restrict aPy = A[kPy];
+  [[maybe_unused]] const float* __restrict bPy = B[kPy];
+  [[maybe_unused]] const float* __restrict aPz = A[kPz];
+  [[maybe_unused]] const float* __restrict bPz = B[kPz];
+  [[maybe_unused]] const float* __restrict aC00 = A[kC00];
+  [[maybe_unused]] const float* __restrict bC00 = B[kC00];
+  [[maybe_unused]] const float* __restrict aC01 = A[kC01];
+  [[maybe_unused]] const float* __restrict bC01 = B[kC01];
+  [[maybe_unused]] const float* __restrict aC02 = A[kC02];
+  [[maybe_unused]] const float* __restrict bC02 = B[kC02];
+  [[maybe_unused]] const float* __restrict aC11 = A[kC11];
+  [[maybe_unused]] const float* __restrict bC11 = B[kC11];
+  [[maybe_unused]] const float* __restrict aC12 = A[kC12];
+  [[maybe_unused]] const float* __restrict bC12 = B[kC12];
+  [[maybe_unused]] const float* __restrict aC22 = A[kC22];
+  [[maybe_unused]] const float* __restrict bC22 = B[kC22];
+  [[maybe_unused]] const float* __restrict aU = A[kU];
+  [[maybe_unused]] const float* __restrict bU = B[kU];
+  [[maybe_unused]] const float* __restrict aV = A[kV];
+  [[maybe_unused]] const float* __restrict bV = B[kV];
+  [[maybe_unused]] const float* __restrict aUr = A[kUr];
+  [[maybe_unused]] const float* __restrict bUr = B[kUr];
+  [[maybe_unused]] const float* __restrict aX00 = A[kX00];
+  [[maybe_unused]] const float* __restrict bX00 = B[kX00];
+  [[maybe_unused]] const float* __restrict aX01 = A[kX01];
+  [[maybe_unused]] const float* __restrict bX01 = B[kX01];
+  [[maybe_unused]] const float* __restrict aX02 = A[kX02];
+  [[maybe_unused]] const float* __restrict bX02 = B[kX02];
+  [[maybe_unused]] const float* __restrict aX11 = A[kX11];
+  [[maybe_unused]] const float* __restrict bX11 = B[kX11];
+  [[maybe_unused]] const float* __restrict aX12 = A[kX12];
+  [[maybe_unused]] const float* __restrict bX12 = B[kX12];
+  [[maybe_unused]] const float* __restrict aX22 = A[kX22];
+  [[maybe_unused]] const float* __restrict bX22 = B[kX22];
+  float bs0 = 0, bs1 = 0, bcount = 0, mant = 1, bprior = 0;
+  int exps = 0;
+#pragma omp simd reduction(+ : bs0, bs1, bcount) reduction(max : bprior)
+  for (int k = b0; k < b1; ++k) {
+    const float m = aMask[k] * bMask[k];
+    const float l0 = aPx[k] - bPx[k], l1 = aPy[k] - bPy[k],
+                l2 = aPz[k] - bPz[k];
+    const float n2 = l0 * l0 + l1 * l1 + l2 * l2;
+    const float len_k = std::sqrt(n2);
+    float wk = m;
+    if constexpr (kUseU) {
+      // Eq. 2: σ = lᵀ(Σi + Σj)l / lᵀl; coincident points fall to the floor.
+      const float q = (aC00[k] + bC00[k]) * l0 * l0 +
+                      (aC11[k] + bC11[k]) * l1 * l1 +
+                      (aC22[k] + bC22[k]) * l2 * l2 +
+                      2.0f * ((aC01[k] + bC01[k]) * l0 * l1 +
+                              (aC02[k] + bC02[k]) * l0 * l2 +
+                              (aC12[k] + bC12[k]) * l1 * l2);
+      const float n2_safe = n2 > 1e-24f ? n2 : 1e-24f;
+      const float sigma_raw = q / n2_safe;
+      const float sigma = sigma_raw > floor ? sigma_raw : floor;
+      wk = m / sigma;
+      // log σ on co-observed frames only (σ_eff = 1 elsewhere), split as 2^e · mantissa.
+      sig[k] = m > 0.5f ? sigma : 1.0f;  // not 1 + m(σ − 1): that cancels in float
     }
-    if (acc.n == 0) acc.shift = lt;
-    const double dl = lt - acc.shift;
-    acc.s0 += w;
-    acc.s1 += w * dl;
-    acc.s2 += w * dl * dl;
-    ++acc.n;
-    if (use_prior) {
-      double c[6];
-      for (int k = 0; k < 6; ++k) c[k] = si.xc[k] + sj.xc[k];
-      const double m =
-          InverseQuadForm(c, si.x[0] - sj.x[0], si.x[1] - sj.x[1], si.x[2] - sj.x[2]);
-      acc.prior = std::max(acc.prior, m);
+    lt[k] = len_k;
+    w[k] = wk;
+    bs0 += wk;
+    bs1 += wk * len_k;
+    bcount += m;
+    if constexpr (kUsePrior) {
+      const float du = aU[k] - bU[k], dv = aV[k] - bV[k],
+                  dr = aUr[k] - bUr[k];
+      float mahal;
+      if constexpr (kIsotropic) {
+        // Every keypoint covariance is s·I: ΔxᵀC⁻¹Δx = |Δx|² / (si + sj).
+        mahal = (du * du + dv * dv + dr * dr) / (aX00[k] + bX00[k]);
+      } else {
+        // ΔxᵀC⁻¹Δx, C = Σxi + Σxj, by the adjugate of the symmetric C.
+        const float c00 = aX00[k] + bX00[k], c01 = aX01[k] + bX01[k],
+                    c02 = aX02[k] + bX02[k], c11 = aX11[k] + bX11[k],
+                    c12 = aX12[k] + bX12[k], c22 = aX22[k] + bX22[k];
+        const float a00 = c11 * c22 - c12 * c12, a01 = c02 * c12 - c01 * c22,
+                    a02 = c01 * c12 - c02 * c11, a11 = c00 * c22 - c02 * c02,
+                    a12 = c01 * c02 - c00 * c12, a22 = c00 * c11 - c01 * c01;
+        const float det_raw = c00 * a00 + c01 * a01 + c02 * a02;
+        const float det = det_raw > 1e-30f ? det_raw : 1e-30f;
+        mahal = (a00 * du * du + a11 * dv * dv + a22 * dr * dr +
+                 2.0f * (a01 * du * dv + a02 * du * dr + a12 * dv * dr)) /
+                det;
+      }
+      const float pm = m * mahal;  // no std::max: a reference defeats the vectoriser
+      bprior = bprior > pm ? bprior : pm;
     }
   }
-};
+  if constexpr (kUseU) {
+    // Σ log σ = ln 2 · Σ exponents + log Π mantissas (each in [1, 2), so a block of 64 stays
+    // below 2^64): integer work per frame and one log per block instead of one per frame.
+    for (int k = b0; k < b1; ++k) {
+      const uint32_t bits = std::bit_cast<uint32_t>(sig[k]);
+      exps += static_cast<int>(bits >> 23) - 127;
+      mant *= std::bit_cast<float>((bits & 0x007fffffu) | 0x3f800000u);
+    }
+  }
+  out->s0 = bs0, out->s1 = bs1, out->count = bcount, out->mant = mant, out->prior = bprior;
+  out->exps = exps;
+}
+
+using PairKernel = void (*)(const float* const*, const float* const*, int, int, float, float*,
+                            float*, float*, BlockSums*);
+
+template <bool kUseU, bool kUsePrior>
+PairKernel SelectIsotropic(bool iso) {
+  return iso ? &PairBlock<kUseU, kUsePrior, true> : &PairBlock<kUseU, kUsePrior, false>;
+}
+
+PairKernel SelectKernel(bool use_u, bool use_prior, bool iso) {
+  if (use_u) return use_prior ? SelectIsotropic<true, true>(iso) : SelectIsotropic<true, false>(iso);
+  return use_prior ? SelectIsotropic<false, true>(iso) : SelectIsotropic<false, false>(iso);
+}
+
+void UpperTriangle(const Eigen::Matrix3d& m, float* const* rows, int col) {
+  rows[0][col] = static_cast<float>(m(0, 0)), rows[1][col] = static_cast<float>(m(0, 1));
+  rows[2][col] = static_cast<float>(m(0, 2)), rows[3][col] = static_cast<float>(m(1, 1));
+  rows[4][col] = static_cast<float>(m(1, 2)), rows[5][col] = static_cast<float>(m(2, 2));
+}
 
 }  // namespace
 
 SparseDistances ComputeMotionDistances(const TrackletTable& table, const PointTracks& tracks,
                                        FrameRange chunk, const MotionDistanceOptions& options) {
   SparseDistances out;
-  const int num_frames = chunk.size();
-  if (num_frames <= 0) return out;
+  if (chunk.size() <= 0) return out;
+  const int min_co = options.min_co_observations;
 
-  // Frame-major sample lists (ascending local id inside each frame) and, per item, where its
-  // samples sit in them.
-  std::vector<std::vector<Sample>> by_frame(num_frames);
-  std::vector<std::vector<std::pair<int, int>>> slots;  // [local] → (frame offset, index)
-  for (int l : table.LandmarksIn(chunk, options.min_co_observations)) {
+  // 1. Items and their spans: samples that have both a 3-D point and a keypoint.
+  struct Pending {
+    int landmark;
+    std::vector<std::pair<const PointSample*, const StereoObservation*>> samples;
+  };
+  std::vector<Pending> items;
+  for (int l : table.LandmarksIn(chunk, min_co)) {
     if (l >= static_cast<int>(tracks.size())) continue;
     const auto& samples = tracks[l].samples;
     auto lo = std::lower_bound(samples.begin(), samples.end(), chunk.begin,
                                [](const PointSample& s, int f) { return s.frame < f; });
-    auto hi = std::lower_bound(lo, samples.end(), chunk.end,
-                               [](const PointSample& s, int f) { return s.frame < f; });
-    if (hi - lo < options.min_co_observations) continue;
     const auto obs = table.ObservationsOf(l, chunk);
-    const int local = out.size();
-    std::vector<std::pair<int, int>> my_slots;
+    Pending p{l, {}};
     size_t k = 0;
-    for (auto it = lo; it != hi; ++it) {
+    for (auto it = lo; it != samples.end() && it->frame < chunk.end; ++it) {
       while (k < obs.size() && obs[k].frame < it->frame) ++k;
-      if (k == obs.size() || obs[k].frame != it->frame) continue;  // no keypoint: skip frame
-      Sample s;
-      s.local = local;
-      for (int a = 0; a < 3; ++a) s.p[a] = it->point(a), s.x[a] = obs[k].x(a);
-      UpperTriangle(it->cov, s.c);
-      UpperTriangle(obs[k].cov, s.xc);
-      const int f = it->frame - chunk.begin;
-      my_slots.emplace_back(f, static_cast<int>(by_frame[f].size()));
-      by_frame[f].push_back(s);
+      if (k < obs.size() && obs[k].frame == it->frame) p.samples.emplace_back(&*it, &obs[k]);
     }
-    if (static_cast<int>(my_slots.size()) < options.min_co_observations) {
-      for (const auto& [f, idx] : my_slots) by_frame[f].pop_back();
-      continue;
-    }
-    out.landmarks.push_back(l);
-    slots.push_back(std::move(my_slots));
+    if (static_cast<int>(p.samples.size()) >= min_co) items.push_back(std::move(p));
+  }
+  const int n = static_cast<int>(items.size());
+  std::vector<Span> spans(n);
+  int columns = 0;
+  for (int i = 0; i < n; ++i) {
+    out.landmarks.push_back(items[i].landmark);
+    spans[i].first = items[i].samples.front().first->frame - chunk.begin;
+    spans[i].length = items[i].samples.back().first->frame - chunk.begin - spans[i].first + 1;
+    spans[i].offset = columns;
+    columns += spans[i].length;
   }
 
-  const int n = out.size();
-  const Kernel kernel{options.use_uncertainty, options.use_image_prior, options.min_variance_m2};
-  std::vector<Accumulator> acc(n);
-  std::vector<int> touched;
-  touched.reserve(n);
+  // 2. Structure-of-arrays storage, filler first.
+  std::vector<float> storage(static_cast<size_t>(kNumFields) * columns, 0.0f);
+  float* rows[kNumFields];
+  for (int f = 0; f < kNumFields; ++f) rows[f] = storage.data() + static_cast<size_t>(f) * columns;
+  for (int f : {kC00, kC11, kC22, kX00, kX11, kX22}) std::fill(rows[f], rows[f] + columns, 1.0f);
+  bool isotropic_keypoints = true;  // then the prior needs no 3×3 inverse
   for (int i = 0; i < n; ++i) {
-    for (const auto& [f, idx] : slots[i]) {
-      const auto& frame = by_frame[f];
-      const Sample& si = frame[idx];
-      for (size_t q = idx + 1; q < frame.size(); ++q) {
-        const Sample& sj = frame[q];
-        Accumulator& a = acc[sj.local];
-        if (a.n == 0) touched.push_back(sj.local);
-        kernel(si, sj, a);
+    for (const auto& [ps, ob] : items[i].samples) {
+      const int col = spans[i].offset + (ps->frame - chunk.begin - spans[i].first);
+      for (int a = 0; a < 3; ++a) {
+        rows[kPx + a][col] = static_cast<float>(ps->point(a));
+        rows[kU + a][col] = static_cast<float>(ob->x(a));
       }
+      UpperTriangle(ps->cov, rows + kC00, col);
+      UpperTriangle(ob->cov, rows + kX00, col);
+      const Eigen::Matrix3d& xc = ob->cov;
+      isotropic_keypoints = isotropic_keypoints && xc(0, 1) == 0 && xc(0, 2) == 0 &&
+                            xc(1, 2) == 0 && xc(1, 0) == 0 && xc(2, 0) == 0 && xc(2, 1) == 0 &&
+                            xc(1, 1) == xc(0, 0) && xc(2, 2) == xc(0, 0);
+      rows[kMask][col] = 1.0f;
     }
-    std::sort(touched.begin(), touched.end());
-    for (int j : touched) {
-      Accumulator& a = acc[j];
-      if (a.n >= options.min_co_observations) {
-        double first = std::max(0.0, a.s2 - a.s1 * a.s1 / a.s0);
-        if (options.use_uncertainty) first += a.log_sum + std::log(a.prod);
-        if (options.mean_over_frames) first /= a.n;
-        out.entries.push_back({i, j, first + options.alpha * a.prior});
+  }
+  items.clear();
+
+  // 3. Candidate pairs: spans overlapping by >= min_co frames, found by a sweep over items
+  // sorted by first frame (never all n² pairs of the chunk).
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return spans[a].first != spans[b].first ? spans[a].first < spans[b].first : a < b;
+  });
+
+  const bool use_u = options.use_uncertainty, use_prior = options.use_image_prior;
+  const float floor = static_cast<float>(options.min_variance_m2);
+  std::vector<float> lt_buf(chunk.size()), w_buf(chunk.size()), sig_buf(chunk.size());
+  const PairKernel kernel = SelectKernel(use_u, use_prior, isotropic_keypoints);
+  for (int oi = 0; oi < n; ++oi) {
+    const int i = order[oi];
+    const Span& si = spans[i];
+    const int end_i = si.first + si.length;
+    for (int oj = oi + 1; oj < n; ++oj) {
+      const int j = order[oj];
+      const Span& sj = spans[j];
+      if (sj.first > end_i - min_co) break;  // later items start even later
+      const int lo = sj.first, hi = std::min(end_i, sj.first + sj.length);
+      const int len = hi - lo;
+      if (len < min_co) continue;
+      const int ci = si.offset + (lo - si.first), cj = sj.offset + (lo - sj.first);
+      // Pass 1, fused and vectorised (omp simd; -fopenmp-simd needs no OpenMP runtime), in
+      // blocks of kBlock frames so that the product of the variances' mantissas (each in
+      // [1, 2)) fits a float: Σ log σ = ln 2 · Σ exponents + log Π mantissas, one log per block.
+      double s0 = 0, s1 = 0, log_sum = 0, count = 0;
+      float prior = 0.0f;
+      const float* Ai[kNumFields];
+      const float* Bj[kNumFields];
+      for (int f = 0; f < kNumFields; ++f) Ai[f] = rows[f] + ci, Bj[f] = rows[f] + cj;
+      float* lt = lt_buf.data();
+      float* w = w_buf.data();
+      for (int b0 = 0; b0 < len; b0 += kBlock) {
+        const int b1 = std::min(len, b0 + kBlock);
+        BlockSums bsum;
+        kernel(Ai, Bj, b0, b1, floor, lt, w, sig_buf.data(), &bsum);
+        const float bs0 = bsum.s0, bs1 = bsum.s1, bcount = bsum.count, mant = bsum.mant,
+                    bprior = bsum.prior;
+        const int exps = bsum.exps;
+        s0 += bs0;
+        s1 += bs1;
+        count += bcount;
+        prior = std::max(prior, bprior);
+        if (use_u) log_sum += std::log(static_cast<double>(mant)) + kLn2 * exps;
       }
-      a = Accumulator();
+      if (count < min_co - 0.5) continue;
+      // Pass 2: Σ w (l − l*)² about the weighted mean.
+      const float l_star = static_cast<float>(s1 / s0);
+      float spread = 0.0f;
+#pragma omp simd reduction(+ : spread)
+      for (int k = 0; k < len; ++k) spread += w[k] * (lt[k] - l_star) * (lt[k] - l_star);
+      double first = spread + log_sum;
+      if (options.mean_over_frames) first /= count;
+      out.entries.push_back({std::min(i, j), std::max(i, j), first + options.alpha * double(prior)});
     }
-    touched.clear();
   }
   return out;
 }

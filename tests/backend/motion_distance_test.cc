@@ -80,14 +80,15 @@ testing::TestScene TwoBodyScene(bool outdoor, int num_static, int num_moving, do
 }
 
 TEST(MotionDistance, FastSumsMatchTheNaiveFormulaForEveryVariant) {
-  const auto scene = TwoBodyScene(false, 12, 8, 0.02, 1.0, 30, 7);
-  const PointTracks tracks = BackProjectTracks(scene.table, scene.camera, {0, 30});
+  // 150 frames: spans longer than the kernel's 64-frame blocks.
+  const auto scene = TwoBodyScene(false, 12, 8, 0.01, 1.0, 150, 7);
+  const PointTracks tracks = BackProjectTracks(scene.table, scene.camera, {0, 150});
   for (int variant = 0; variant < 8; ++variant) {
     MotionDistanceOptions o;
     o.use_uncertainty = variant & 1;
     o.use_image_prior = variant & 2;
     o.mean_over_frames = variant & 4;
-    const FrameRange chunk{3, 27};
+    const FrameRange chunk{3, 147};
     const SparseDistances d = ComputeMotionDistances(scene.table, tracks, chunk, o);
     ASSERT_GT(d.entries.size(), 100u);
     std::map<std::pair<int, int>, double> got;
@@ -103,7 +104,8 @@ TEST(MotionDistance, FastSumsMatchTheNaiveFormulaForEveryVariant) {
         ASSERT_EQ(valid, got.count(std::make_pair(i, j)) == 1) << i << "," << j;
         if (!valid) continue;
         const double have = got[std::make_pair(i, j)];
-        EXPECT_NEAR(have, want, 1e-7 * std::max(1.0, std::abs(want)))
+        // The kernel computes in float (two-pass sums, double accumulators): ~1e-6 relative.
+        EXPECT_NEAR(have, want, 2e-5 * std::max(1.0, std::abs(want)))
             << "variant " << variant << " pair " << i << "," << j;
         ++compared;
       }
@@ -207,7 +209,7 @@ TEST(MotionDistance, RigidPairIsTheSameInAnyCameraMotion) {
           mean_log += std::log(v.dot((si.cov + sj.cov) * v) / v.squaredNorm());
           ++n;
         }
-    EXPECT_NEAR(e.d, mean_log / n, 1e-6);
+    EXPECT_NEAR(e.d, mean_log / n, 1e-4);  // float kernel
   }
 }
 
