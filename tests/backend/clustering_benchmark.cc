@@ -3,6 +3,8 @@
 // all 100 frames of the chunk (the densest case: 33 670 pairs × 100 frames).
 #include <benchmark/benchmark.h>
 
+#include <random>
+
 #include "backend/hac.h"
 #include "backend/motion_distance.h"
 #include "backend/point_tracks.h"
@@ -81,6 +83,62 @@ void BM_HacDense260AllBelowEpsilon(benchmark::State& state) {
   state.counters["entries"] = static_cast<double>(d.entries.size());
 }
 BENCHMARK(BM_HacDense260AllBelowEpsilon)->Unit(benchmark::kMicrosecond);
+
+// A long outdoor-like chunk: 3000 landmarks, 200 frames, tracks of 20-60 frames (KLT-like),
+// so most pairs never meet. Shows the cost following Σₜ nₜ² rather than n².
+const Fixture& Sparse3000() {
+  static const Fixture f = [] {
+    Fixture fx;
+    fx.chunk = {0, 200};
+    fx.scene.camera = testing::SyntheticCamera(true);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int l = 0; l < 3000; ++l) {
+      const int len = 20 + static_cast<int>(40 * u(rng));
+      const int start = static_cast<int>((200 - len) * u(rng));
+      const Eigen::Vector3d p(-20 + 40 * u(rng), -5 + 10 * u(rng), 8 + 40 * u(rng));
+      for (int t = start; t < start + len; ++t) {
+        Eigen::Vector3d x;
+        fx.scene.camera.Project(Eigen::Vector3d(p.x(), p.y(), p.z() - 0.3 * (t - start)), &x);
+        fx.scene.table.Add(l, t, x, Eigen::Matrix3d::Identity());
+      }
+    }
+    fx.tracks = BackProjectTracks(fx.scene.table, fx.scene.camera, fx.chunk);
+    return fx;
+  }();
+  return f;
+}
+
+void BM_MotionDistanceSparse3000x200(benchmark::State& state) {
+  const Fixture& f = Sparse3000();
+  size_t pairs = 0;
+  for (auto _ : state) {
+    const SparseDistances d = ComputeMotionDistances(f.scene.table, f.tracks, f.chunk, {});
+    pairs = d.entries.size();
+    benchmark::DoNotOptimize(d.entries.data());
+  }
+  state.counters["landmarks"] = f.scene.table.num_landmarks();
+  state.counters["observations"] = static_cast<double>(f.scene.table.num_observations());
+  state.counters["pairs"] = static_cast<double>(pairs);
+}
+BENCHMARK(BM_MotionDistanceSparse3000x200)->Unit(benchmark::kMillisecond);
+
+// HAC on that chunk's matrix (n = 3000 > max_dense_items: the hashed sparse engine).
+void BM_HacSparse3000(benchmark::State& state) {
+  const Fixture& f = Sparse3000();
+  const SparseDistances d = ComputeMotionDistances(f.scene.table, f.tracks, f.chunk, {});
+  HacOptions o;
+  o.epsilon = 90.0;
+  int clusters = 0;
+  for (auto _ : state) {
+    const auto labels = CompleteLinkageHac(d, o);
+    clusters = *std::max_element(labels.begin(), labels.end()) + 1;
+    benchmark::DoNotOptimize(labels.data());
+  }
+  state.counters["entries"] = static_cast<double>(d.entries.size());
+  state.counters["clusters"] = clusters;
+}
+BENCHMARK(BM_HacSparse3000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace cslam
