@@ -31,8 +31,9 @@ namespace {
 
 // Per-chunk storage of every item's samples over its frame span [first, first + length):
 // structure of arrays in float, one row per field, so a pair's co-observed frames are two
-// aligned contiguous segments and the pair kernel is one branch-free SIMD loop. Frames inside a span without a sample have mask 0 and harmless filler
-// values (point 0, identity covariances). Float is enough: the first term is evaluated in two
+// aligned contiguous segments and the pair kernel is one branch-free SIMD loop. Frames inside
+// a span without a sample have mask 0 and harmless filler values (point 0, identity
+// covariances). Float is enough: the first term is evaluated in two
 // passes (l* first, then Σ w (l − l*)²), so no large sums cancel; results agree with a
 // double-precision evaluation to ~1e-6 relative.
 enum Field : int {

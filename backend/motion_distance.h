@@ -17,7 +17,8 @@ struct MotionDistanceOptions {
   bool use_uncertainty = true;    ///< false = ablation "w/o U": Euclidean first term, plain mean
   bool use_image_prior = true;    ///< false = ablation "w/o I"
   bool mean_over_frames = true;   ///< [ours] first term averaged over frames (false: summed)
-  double min_variance_m2 = 1e-6;  ///< [ours] floor on σᵢⱼₜ, m², keeps log σ finite
+  double min_variance_m2 = 1e-6;  ///< [ours] floor on σᵢⱼₜ, m², keeps log σ finite (also the
+                                  ///< σ of two coincident points, where Eq. 2 is undefined)
   void Check() const;
   void Load(OptionsReader& reader);
 };
@@ -39,9 +40,10 @@ struct SparseDistances {
 /// Eq. 1 for every co-observed pair of the chunk. Items are the landmarks with at least
 /// `min_co_observations` samples in `chunk` (ascending id). 3-D points and covariances come
 /// from `tracks` (all in the camera frame of their frame, see point_tracks.h); the image prior
-/// uses the stereo keypoints (uL, vL, uR) and pixel covariances of `table`. Pairs are
-/// enumerated through per-frame lists, so the cost is Σₜ nₜ² over the chunk's frames, never
-/// n² over all landmarks of the sequence.
+/// uses the stereo keypoints (uL, vL, uR) and pixel covariances of `table`. Only the chunk's
+/// landmarks are touched (table.LandmarksIn), and pairs are found by a sweep over their frame
+/// spans, so the cost follows the co-observed (pair, frame) count, never n² over all
+/// landmarks of the sequence. Computed in float with double accumulators (~1e-6 relative).
 SparseDistances ComputeMotionDistances(const TrackletTable& table, const PointTracks& tracks,
                                        FrameRange chunk, const MotionDistanceOptions& options);
 

@@ -83,13 +83,20 @@ TEST(MotionDistance, FastSumsMatchTheNaiveFormulaForEveryVariant) {
   // 150 frames: spans longer than the kernel's 64-frame blocks.
   const auto scene = TwoBodyScene(false, 12, 8, 0.01, 1.0, 150, 7);
   const PointTracks tracks = BackProjectTracks(scene.table, scene.camera, {0, 150});
-  for (int variant = 0; variant < 8; ++variant) {
+  // The same keypoints with a full (anisotropic) pixel covariance: the general prior path.
+  TrackletTable aniso;
+  Eigen::Matrix3d cov;
+  cov << 2.0, 0.3, 0.5, 0.3, 1.5, 0.2, 0.5, 0.2, 2.5;
+  for (int l = 0; l < scene.table.num_landmarks(); ++l)
+    for (const auto& o : scene.table.ObservationsOf(l)) aniso.Add(l, o.frame, o.x, cov);
+  for (int variant = 0; variant < 16; ++variant) {
+    const TrackletTable& table = variant & 8 ? aniso : scene.table;
     MotionDistanceOptions o;
     o.use_uncertainty = variant & 1;
     o.use_image_prior = variant & 2;
     o.mean_over_frames = variant & 4;
     const FrameRange chunk{3, 147};
-    const SparseDistances d = ComputeMotionDistances(scene.table, tracks, chunk, o);
+    const SparseDistances d = ComputeMotionDistances(table, tracks, chunk, o);
     ASSERT_GT(d.entries.size(), 100u);
     std::map<std::pair<int, int>, double> got;
     for (const auto& e : d.entries) {
@@ -100,7 +107,7 @@ TEST(MotionDistance, FastSumsMatchTheNaiveFormulaForEveryVariant) {
     for (int i = 0; i < scene.table.num_landmarks(); ++i)
       for (int j = i + 1; j < scene.table.num_landmarks(); ++j) {
         bool valid = false;
-        const double want = NaiveDistance(scene.table, tracks, i, j, chunk, o, &valid);
+        const double want = NaiveDistance(table, tracks, i, j, chunk, o, &valid);
         ASSERT_EQ(valid, got.count(std::make_pair(i, j)) == 1) << i << "," << j;
         if (!valid) continue;
         const double have = got[std::make_pair(i, j)];
