@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "core/options_reader.h"
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
 #include "core/tracklet_table.h"
@@ -32,5 +33,19 @@ struct MotionEstimate {
   /// The moving cluster with `label`, or nullptr.
   const ClusterMotion* FindCluster(int label) const;
 };
+
+/// Options of EstimateMotions (spec §5, §6). Minimal placeholder on the `cluster` branch; the
+/// `slam` branch owns the full definition.
+struct MotionEstimationOptions {
+  bool point_to_point_icp = false;  ///< ablation (Table 4): SVD point-to-point ICP initialisation
+  void Check() const;
+  void Load(OptionsReader& reader);
+};
+
+/// Shapes and trajectories of every cluster of `landmark_cluster` ([landmark id]: -1 unused,
+/// 0 static, > 0 moving) over `range`.
+MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
+                               FrameRange range, const std::vector<int>& landmark_cluster,
+                               const MotionEstimationOptions& options);
 
 }  // namespace cslam

@@ -1,0 +1,160 @@
+#include "backend/clusterslam.h"
+
+#include <algorithm>
+
+#include "backend/labelling.h"
+#include "backend/point_tracks.h"
+#include "core/errors.h"
+#include "core/logging.h"
+#include "core/timer.h"
+
+namespace cslam {
+
+std::string ToString(ClusterSlamAblation ablation) {
+  switch (ablation) {
+    case ClusterSlamAblation::kNone: return "none";
+    case ClusterSlamAblation::kNoUncertainty: return "no_u";
+    case ClusterSlamAblation::kNoImagePrior: return "no_i";
+    case ClusterSlamAblation::kPointToPointIcp: return "p2p_icp";
+  }
+  return "none";
+}
+
+ClusterSlamAblation ParseAblation(const std::string& name, const std::string& key) {
+  for (auto a : {ClusterSlamAblation::kNone, ClusterSlamAblation::kNoUncertainty,
+                 ClusterSlamAblation::kNoImagePrior, ClusterSlamAblation::kPointToPointIcp})
+    if (ToString(a) == name) return a;
+  throw ConfigError(key + ": must be one of none, no_u, no_i, p2p_icp, got '" + name + "'");
+}
+
+ClusterSlamOptions ClusterSlamOptions::Indoor() {
+  ClusterSlamOptions o;
+  o.hac.epsilon = 60.0;
+  o.consensus.chunk_length = 100;
+  o.consensus.chunk_overlap = 25;
+  return o;
+}
+
+ClusterSlamOptions ClusterSlamOptions::Outdoor() {
+  ClusterSlamOptions o;
+  o.hac.epsilon = 90.0;
+  o.consensus.chunk_length = 200;
+  o.consensus.chunk_overlap = 25;
+  return o;
+}
+
+ClusterSlamOptions ClusterSlamOptions::Effective() const {
+  ClusterSlamOptions o = *this;
+  switch (ablation) {
+    case ClusterSlamAblation::kNone: break;
+    case ClusterSlamAblation::kNoUncertainty: o.distance.use_uncertainty = false; break;
+    case ClusterSlamAblation::kNoImagePrior: o.distance.use_image_prior = false; break;
+    case ClusterSlamAblation::kPointToPointIcp: o.motion.point_to_point_icp = true; break;
+  }
+  return o;
+}
+
+void ClusterSlamOptions::Check() const {
+  distance.Check();
+  hac.Check();
+  consensus.Check();
+  motion.Check();
+  CheckOption(max_iterations >= 1, "clusterslam.max_iterations", "must be >= 1", max_iterations);
+  CheckOption(refine_half_window >= 0, "clusterslam.refine_half_window", "must be >= 0 frames",
+              refine_half_window);
+}
+
+void ClusterSlamOptions::Load(OptionsReader& reader) {
+  OptionsReader d = reader.Section("distance");
+  distance.Load(d);
+  d.Finish();
+  OptionsReader h = reader.Section("hac");
+  hac.Load(h);
+  h.Finish();
+  OptionsReader c = reader.Section("consensus");
+  consensus.Load(c);
+  c.Finish();
+  OptionsReader m = reader.Section("motion");
+  motion.Load(m);
+  m.Finish();
+  std::string name = ToString(ablation);
+  reader.Read("ablation", &name);
+  ablation = ParseAblation(name, reader.Where("ablation"));
+  reader.Read("max_iterations", &max_iterations);
+  reader.Read("refine_half_window", &refine_half_window);
+}
+
+std::vector<int> ClusterLandmarks(const TrackletTable& table, const PointTracks& tracks,
+                                  FrameRange range, const ClusterSlamOptions& options,
+                                  const std::vector<int>* previous, ConsensusSummary* summary) {
+  std::vector<ChunkLabels> chunk_labels;
+  for (const FrameRange& chunk : ChunksOf(range, options.consensus)) {
+    const SparseDistances d = ComputeMotionDistances(table, tracks, chunk, options.distance);
+    ChunkLabels cl;
+    cl.landmarks = d.landmarks;
+    cl.labels = CompleteLinkageHac(d, options.hac);
+    chunk_labels.push_back(std::move(cl));
+  }
+  const std::vector<int> consensus =
+      ConsensusLabels(chunk_labels, table.num_landmarks(), options.consensus, summary);
+  std::vector<int> observations(table.num_landmarks(), 0);
+  for (int l : table.LandmarksIn(range))
+    observations[l] = static_cast<int>(table.ObservationsOf(l, range).size());
+  return StaticFirstLabels(consensus, observations, previous);
+}
+
+BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
+                             FrameRange range, const ClusterSlamOptions& options) {
+  return RunClusterSlam(table, camera, range, options, EstimateMotions);
+}
+
+BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
+                             FrameRange range, const ClusterSlamOptions& options,
+                             const MotionEstimator& estimator) {
+  const Timer total;
+  const ClusterSlamOptions opts = options.Effective();
+  opts.Check();
+  auto log = GetLogger("backend");
+  BackendResult result;
+  result.method = "clusterslam";
+
+  PointTracks tracks = BackProjectTracks(table, camera, range);
+  std::vector<int> labels;
+  for (int k = 1; k <= opts.max_iterations; ++k) {
+    IterationDiagnostics diag;
+    diag.iteration = k;
+    Timer timer;
+    ConsensusSummary consensus;
+    std::vector<int> next =
+        ClusterLandmarks(table, tracks, range, opts, labels.empty() ? nullptr : &labels, &consensus);
+    diag.clustering_ms = timer.ElapsedMs();
+    diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
+    diag.vi_to_previous = labels.empty() ? 0.0 : VariationOfInformation(labels, next);
+    const bool stable = !labels.empty() && diag.vi_to_previous == 0.0;
+    if (stable) {
+      // Same partition as the estimate we already have: re-estimating would repeat it.
+      diag.chi2 = result.estimate.chi2;
+      result.iterations.push_back(diag);
+      log->info("clusterslam iteration {}: {} clusters, labelling stable", k, diag.num_clusters);
+      break;
+    }
+    labels = std::move(next);
+    timer.Reset();
+    result.estimate = estimator(table, camera, range, labels, opts.motion);
+    diag.estimation_ms = timer.ElapsedMs();
+    diag.chi2 = result.estimate.chi2;
+    result.iterations.push_back(diag);
+    log->info("clusterslam iteration {}: {} clusters (IVC {} sweeps{}), VI {:.4f}, chi2 {:.1f}, "
+              "clustering {:.1f} ms, estimation {:.1f} ms",
+              k, diag.num_clusters, consensus.iterations, consensus.converged ? "" : ", not stable",
+              diag.vi_to_previous, diag.chi2, diag.clustering_ms, diag.estimation_ms);
+    if (k < opts.max_iterations)
+      tracks = RefineTracks(table, camera, range, result.estimate, opts.refine_half_window);
+  }
+  // The estimator owns landmark_cluster, but the loop's labelling is the reference.
+  if (result.estimate.landmark_cluster.empty()) result.estimate.landmark_cluster = labels;
+  result.time_s = total.ElapsedS();
+  return result;
+}
+
+}  // namespace cslam

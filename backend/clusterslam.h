@@ -1,0 +1,87 @@
+#pragma once
+// ClusterSLAM's outer loop, Algorithm 1 (clusterslam_spec.md §2): per-chunk motion distance
+// and HAC, consensus, then shape and motion estimation of every cluster, repeated until the
+// labelling is stable.
+//
+// Iterations >= 2 feed the motion distance with refined per-frame positions (RefineTracks in
+// point_tracks.h): each landmark's point at frame t is expressed in the CAMERA frame of t —
+// the model prediction T^{cq}ₜ X̂^{q,i} (for the static cluster (P^c_t)⁻¹ X̂) plus the
+// landmark's windowed mean observation residual. Both landmarks of a pair are therefore in
+// the same frame, so dᵢⱼ remains a rigid-motion test across clusters (cluster-frame
+// coordinates would make every pair look rigid), and a landmark that does not move with its
+// cluster keeps a visible residual drift.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "backend/backend_result.h"
+#include "backend/consensus.h"
+#include "backend/hac.h"
+#include "backend/motion_distance.h"
+#include "backend/motion_estimation.h"
+#include "core/options_reader.h"
+#include "core/stereo_camera.h"
+#include "core/tracklet_table.h"
+
+namespace cslam {
+
+/// The ablations of the paper's Tables 1 and 4.
+enum class ClusterSlamAblation {
+  kNone,             ///< the full method
+  kNoUncertainty,    ///< "w/o U": Euclidean first term of Eq. 1, unweighted mean
+  kNoImagePrior,     ///< "w/o I": no image prior in Eq. 1
+  kPointToPointIcp,  ///< point-to-point ICP shape initialisation (passed to motion estimation)
+};
+/// "none", "no_u", "no_i", "p2p_icp".
+std::string ToString(ClusterSlamAblation ablation);
+/// Inverse of ToString; throws ConfigError naming `key` for an unknown name.
+ClusterSlamAblation ParseAblation(const std::string& name, const std::string& key);
+
+/// Everything RunClusterSlam needs; the component options are used as given except that
+/// `ablation` switches the corresponding component fields on top of them.
+struct ClusterSlamOptions {
+  MotionDistanceOptions distance;
+  HacOptions hac;
+  ConsensusOptions consensus;
+  MotionEstimationOptions motion;
+  ClusterSlamAblation ablation = ClusterSlamAblation::kNone;
+  int max_iterations = 5;        ///< k_max of Algorithm 1 [ours]
+  int refine_half_window = 2;    ///< [ours] frames each side averaged by RefineTracks; 0 = the
+                                 ///< raw back-projections in every iteration
+
+  /// ε = 60, chunks 100 / 25 [paper].
+  static ClusterSlamOptions Indoor();
+  /// ε = 90, chunks 200 / 25 [paper; overlap ours].
+  static ClusterSlamOptions Outdoor();
+  /// The component options with the ablation applied.
+  ClusterSlamOptions Effective() const;
+  void Check() const;
+  /// Keys: distance, hac, consensus, motion (sections), ablation, max_iterations,
+  /// refine_half_window.
+  void Load(OptionsReader& reader);
+};
+
+/// The motion estimation step, injectable for tests; the default is EstimateMotions.
+using MotionEstimator = std::function<MotionEstimate(
+    const TrackletTable&, const StereoCamera&, FrameRange, const std::vector<int>&,
+    const MotionEstimationOptions&)>;
+
+/// Runs Algorithm 1 on the observations of `range`. Result labels: 0 static, 1..K moving,
+/// -1 not clustered (too few observations or a cluster below the minimum size). Stops when
+/// the labelling equals the previous one up to relabelling (VI = 0; the previous estimate is
+/// kept) or after max_iterations. result.iterations records every iteration.
+BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
+                             FrameRange range, const ClusterSlamOptions& options);
+BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
+                             FrameRange range, const ClusterSlamOptions& options,
+                             const MotionEstimator& estimator);
+
+/// The clustering half of one iteration: per-chunk distance + HAC, then consensus, relabelled
+/// static-first (0 static, 1..K moving, -1 none). `previous` (may be null) is the previous
+/// iteration's labelling for the static rule. Options are used as given (no ablation applied).
+std::vector<int> ClusterLandmarks(const TrackletTable& table, const PointTracks& tracks,
+                                  FrameRange range, const ClusterSlamOptions& options,
+                                  const std::vector<int>* previous,
+                                  ConsensusSummary* summary = nullptr);
+
+}  // namespace cslam
