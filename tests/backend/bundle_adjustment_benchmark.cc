@@ -1,0 +1,47 @@
+// One decoupled bundle adjustment on an outdoor-like chunk (baseline 0.5 m, points to 60 m,
+// 3 moving vehicles), for 2 000 / 5 000 / 10 000 landmarks. Reports wall time per solve and the
+// process's peak resident set (getrusage ru_maxrss, which only grows: run one size per process
+// with --benchmark_filter for a per-size figure).
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include "backend/bundle_adjustment.h"
+#include "tests/backend/synthetic_bodies.h"
+
+namespace cslam {
+namespace {
+
+void BM_DecoupledBundleAdjustment(benchmark::State& state) {
+  testing::BodySceneSpec spec;
+  spec.outdoor = true;
+  spec.num_frames = 50;
+  spec.num_moving = 3;
+  spec.points_per_body = 100;
+  spec.num_static = static_cast<int>(state.range(0)) - spec.num_moving * spec.points_per_body;
+  spec.pixel_sigma = 1.0;
+  const testing::BodyScene scene = testing::MakeBodyScene(spec);
+  MotionEstimationOptions init;
+  init.run_bundle_adjustment = false;
+  const MotionEstimate initial = EstimateMotions(scene.table, scene.camera,
+                                                 {0, spec.num_frames}, scene.labels, init);
+  BundleAdjustmentOptions options;  // defaults: decoupled, Huber, 20 iterations
+  BundleAdjustmentSummary summary;
+  for (auto _ : state) {
+    state.PauseTiming();
+    MotionEstimate est = initial;
+    state.ResumeTiming();
+    summary = AdjustBundle(scene.table, scene.camera, options, &est);
+    benchmark::DoNotOptimize(est.chi2);
+  }
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  state.counters["landmarks"] = static_cast<double>(state.range(0));
+  state.counters["observations"] = static_cast<double>(scene.table.num_observations());
+  state.counters["lm_iterations"] = summary.iterations;
+  state.counters["peak_rss_MB"] = usage.ru_maxrss / 1024.0;
+}
+BENCHMARK(BM_DecoupledBundleAdjustment)->Arg(2000)->Arg(5000)->Arg(10000)
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+}  // namespace cslam
