@@ -30,7 +30,7 @@ struct BundleAdjustmentOptions {
   /// below it; DCS: Φ. Default 7.815 = the 0.95 quantile of χ²(3).
   double robust_threshold_chi2 = 7.815;
   /// Levenberg–Marquardt iterations per solve [paper ablation: 20].
-  int max_iterations = 20;
+  int max_iterations = 50;
   /// Relative cost decrease below which a solve stops.
   double function_tolerance = 1e-6;
   /// Threads Ceres may use inside one solve (1 on the shared machine).

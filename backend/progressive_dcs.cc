@@ -51,6 +51,8 @@ BackendResult RunProgressiveDcs(const TrackletTable& table, const StereoCamera& 
         hi = std::max(hi, error[i]);
       }
     std::vector<int> outliers;
+    GetLogger("backend")->debug("pdcs pass {}: {} landmarks, mean error in [{:.3g}, {:.3g}]", pass,
+                                current.size(), lo, hi);
     if (std::isfinite(lo)) {
       const double threshold = lo + options.outlier_fraction * (hi - lo);
       for (int i : current)

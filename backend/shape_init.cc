@@ -116,6 +116,27 @@ void Prune(int max_components, LandmarkModel* model) {
   }
 }
 
+/// Eq. 3's objective at `cluster_from_cam`, with the Huber ρ on each Mahalanobis distance.
+double RegistrationCost(const std::vector<RegistrationPoint>& points, const Pose& cluster_from_cam,
+                        double huber_k) {
+  const Eigen::Matrix3d R = cluster_from_cam.linear();
+  double total = 0.0;
+  for (const RegistrationPoint& pt : points) {
+    const Eigen::Vector3d r = cluster_from_cam * pt.p_in_cam - pt.model_mean;
+    const Eigen::Matrix3d cov_rotated = R * pt.cov_in_cam * R.transpose();
+    double best = std::numeric_limits<double>::infinity();
+    for (const Eigen::Matrix3d& cov_g : pt.model_covariances) {
+      const Eigen::Matrix3d s = cov_rotated + cov_g;
+      const double m2 = r.dot(s.ldlt().solve(r));
+      const double m = std::sqrt(std::max(m2, 0.0));
+      const double rho = m <= huber_k ? m2 : 2.0 * huber_k * m - huber_k * huber_k;
+      best = std::min(best, 0.5 * rho + 0.5 * LogDet(s) + LogDet(cov_g));
+    }
+    if (std::isfinite(best)) total += best;
+  }
+  return total;
+}
+
 }  // namespace
 
 Pose RegisterNoiseAware(const std::vector<RegistrationPoint>& points, const Pose& initial,
@@ -239,15 +260,14 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
       for (const FramePoint& fp : points)
         if (models[fp.local].initialised) matched.push_back(&fp);
       if (static_cast<int>(matched.size()) >= options.min_points) {
-        Pose estimate;
-        if (point_to_point_icp) {
-          std::vector<Eigen::Vector3d> src, dst;
-          for (const FramePoint* fp : matched) {
-            src.push_back(fp->p_in_cam);
-            dst.push_back(models[fp->local].mean);
-          }
-          estimate = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
-        } else {
+        std::vector<Eigen::Vector3d> src, dst;
+        for (const FramePoint* fp : matched) {
+          src.push_back(fp->p_in_cam);
+          dst.push_back(models[fp->local].mean);
+        }
+        const Pose svd = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
+        Pose estimate = svd;
+        if (!point_to_point_icp) {
           std::vector<RegistrationPoint> corr;
           corr.reserve(matched.size());
           for (const FramePoint* fp : matched) {
@@ -259,7 +279,22 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
               rp.model_covariances.push_back(c.cov);
             corr.push_back(std::move(rp));
           }
-          estimate = RegisterNoiseAware(corr, current, options);
+          // Start from the better of the previous pose and the SVD solution: from the previous
+          // pose alone, Gauss–Newton lost a fast-spinning small body (depth weakly
+          // constrained) in a wrong basin; a constant-velocity start made outdoor runs worse.
+          const std::vector<Pose> starts = {current, svd};
+          Pose start = current;
+          double best = std::numeric_limits<double>::infinity();
+          for (const Pose& candidate : starts) {
+            const double c = RegistrationCost(corr, candidate, options.huber_threshold_sigma);
+            if (c < best) {
+              best = c;
+              start = candidate;
+            }
+          }
+          estimate = RegisterNoiseAware(corr, start, options);
+          if (!(RegistrationCost(corr, estimate, options.huber_threshold_sigma) <= best))
+            estimate = start;
         }
         if (estimate.matrix().allFinite()) {
           current = estimate;

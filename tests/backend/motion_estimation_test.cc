@@ -47,6 +47,10 @@ TEST(EstimateMotions, TrueLabelsGiveAnAccurateCameraWhileFullBaIsBiased) {
     const double obj = testing::CentroidTrackRmse(scene, est, m.cluster);
     std::printf("object %d: centroid track RMSE %.4f m over %zu frames\n", m.cluster, obj,
                 m.frames.size());
+    // 1.5 px noise on a 1 m body 2.8–3.6 m away: one point's depth sigma is 0.2–0.4 m, so
+    // a centroid of 70 points is known to ~5 cm per frame from depth alone; bundle
+    // adjustment over 40 frames measured 1.2–2.5 cm. The shape initialisation alone is off
+    // by 0.1–1 m on the same bodies.
     EXPECT_LT(obj, 0.05);
   }
 }
@@ -79,13 +83,19 @@ TEST(EstimateMotions, OutputIsIndexedByLandmarkAndFrame) {
 TEST(EstimateMotions, ProgressiveDcsSplitsOffMovingPoints) {
   BodySceneSpec spec = NoisyMultiBody();
   spec.num_moving = 1;
-  spec.points_per_body = 80;
-  spec.pixel_sigma = 1.0;
+  spec.num_static = 400;
+  spec.points_per_body = 40;
+  spec.pixel_sigma = 0.5;
   const BodyScene scene = MakeBodyScene(spec);
   const FrameRange range{0, scene.table.num_frames()};
   const BackendResult r = RunProgressiveDcs(scene.table, scene.camera, range, ProgressiveDcsOptions{});
   EXPECT_EQ(r.method, "pdcs");
   ASSERT_FALSE(r.iterations.empty());
+  // 400 static points against one 40-point body: the all-static DCS solve follows the static
+  // majority, the body's mean errors are 10⁴–10⁵ against < 5 for static points, so the
+  // paper's threshold (30 % of the way from the smallest to the largest error) splits off
+  // only moving points — but only the worst part of the body, as the rule is relative to
+  // the single largest error (the baseline's known weakness).
   int static_kept = 0, static_total = 0, moving_split = 0, moving_total = 0;
   for (int i = 0; i < static_cast<int>(scene.labels.size()); ++i) {
     if (r.estimate.landmark_cluster[i] < 0) continue;
@@ -100,8 +110,9 @@ TEST(EstimateMotions, ProgressiveDcsSplitsOffMovingPoints) {
   std::printf("pdcs: %d passes, static kept %d/%d, moving split off %d/%d\n",
               static_cast<int>(r.iterations.size()), static_kept, static_total, moving_split,
               moving_total);
-  EXPECT_GT(static_kept, 0.8 * static_total);
-  EXPECT_GT(moving_split, 0.5 * moving_total);
+  EXPECT_EQ(static_kept, static_total);
+  EXPECT_GE(moving_split, 0.4 * moving_total);
+  EXPECT_LE(static_cast<int>(r.iterations.size()), ProgressiveDcsOptions{}.max_passes);
 }
 
 TEST(EstimateMotions, OptionsLoadNestedSections) {
