@@ -78,4 +78,11 @@ BackendResult RunProgressiveDcs(const TrackletTable& table, const StereoCamera& 
   return result;
 }
 
+BackendResult RunProgressiveDcs(const TrackletTable& table, const StereoCamera& camera,
+                                FrameRange range, const MotionEstimationOptions& estimation) {
+  ProgressiveDcsOptions options;
+  options.estimation = estimation;
+  return RunProgressiveDcs(table, camera, range, options);
+}
+
 }  // namespace cslam

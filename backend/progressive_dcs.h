@@ -30,5 +30,8 @@ struct ProgressiveDcsOptions {
 /// static); the final estimate is EstimateMotions on the final labelling.
 BackendResult RunProgressiveDcs(const TrackletTable& table, const StereoCamera& camera,
                                 FrameRange range, const ProgressiveDcsOptions& options);
+/// The same with the paper's splitting parameters and `estimation` for every pass.
+BackendResult RunProgressiveDcs(const TrackletTable& table, const StereoCamera& camera,
+                                FrameRange range, const MotionEstimationOptions& estimation);
 
 }  // namespace cslam

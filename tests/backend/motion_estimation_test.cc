@@ -115,6 +115,26 @@ TEST(EstimateMotions, ProgressiveDcsSplitsOffMovingPoints) {
   EXPECT_LE(static_cast<int>(r.iterations.size()), ProgressiveDcsOptions{}.max_passes);
 }
 
+TEST(EstimateMotions, PointToPointSwitchReachesTheShapeInitialisation) {
+  BodySceneSpec spec;
+  spec.outdoor = true;
+  spec.num_moving = 0;
+  spec.num_static = 300;
+  const BodyScene scene = MakeBodyScene(spec);
+  MotionEstimationOptions o;
+  o.run_bundle_adjustment = false;
+  const MotionEstimate aware =
+      EstimateMotions(scene.table, scene.camera, {0, spec.num_frames}, scene.labels, o);
+  o.point_to_point_icp = true;
+  const MotionEstimate icp =
+      EstimateMotions(scene.table, scene.camera, {0, spec.num_frames}, scene.labels, o);
+  EXPECT_LT(Ate(aware.world_from_cam, scene.world_from_cam),
+            0.5 * Ate(icp.world_from_cam, scene.world_from_cam));
+  // Without bundle adjustment the χ² is still reported, and worse for the ablation.
+  EXPECT_GT(aware.num_residuals, 0);
+  EXPECT_LT(aware.chi2, icp.chi2);
+}
+
 TEST(EstimateMotions, OptionsLoadNestedSections) {
   auto reader = OptionsReader::FromString(
       "point_to_point_icp: true\nshape_init:\n  max_mixture_components: 2\n"
