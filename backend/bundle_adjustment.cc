@@ -18,9 +18,12 @@ namespace cslam {
 
 std::string ToString(RobustKernel kernel) {
   switch (kernel) {
-    case RobustKernel::kNone: return "none";
-    case RobustKernel::kHuber: return "huber";
-    case RobustKernel::kDcs: return "dcs";
+    case RobustKernel::kNone:
+      return "none";
+    case RobustKernel::kHuber:
+      return "huber";
+    case RobustKernel::kDcs:
+      return "dcs";
   }
   return "?";
 }
@@ -34,9 +37,12 @@ RobustKernel ParseRobustKernel(const std::string& text, const std::string& key) 
 
 std::string ToString(BaCoupling coupling) {
   switch (coupling) {
-    case BaCoupling::kDecoupled: return "decoupled";
-    case BaCoupling::kSemiCoupled: return "semi_coupled";
-    case BaCoupling::kFullyCoupled: return "fully_coupled";
+    case BaCoupling::kDecoupled:
+      return "decoupled";
+    case BaCoupling::kSemiCoupled:
+      return "semi_coupled";
+    case BaCoupling::kFullyCoupled:
+      return "fully_coupled";
   }
   return "?";
 }
@@ -157,7 +163,8 @@ struct ReprojectionCost {
   Eigen::Matrix3d sqrt_info_;
 };
 
-/// The coupled form of the moving-cluster residual: p_cam = cam_from_world · world_from_cluster · X.
+/// The coupled form of the moving-cluster residual: p_cam = cam_from_world · world_from_cluster ·
+/// X.
 struct CoupledReprojectionCost {
   explicit CoupledReprojectionCost(const ReprojectionCost& base) : base_(base) {}
   template <typename T>
@@ -181,11 +188,14 @@ class Solve {
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_ = std::make_unique<ceres::Problem>(po);
     switch (options.robust_kernel) {
-      case RobustKernel::kNone: break;
+      case RobustKernel::kNone:
+        break;
       case RobustKernel::kHuber:
         loss_ = std::make_unique<ceres::HuberLoss>(std::sqrt(options.robust_threshold_chi2));
         break;
-      case RobustKernel::kDcs: loss_ = std::make_unique<DcsLoss>(options.robust_threshold_chi2); break;
+      case RobustKernel::kDcs:
+        loss_ = std::make_unique<DcsLoss>(options.robust_threshold_chi2);
+        break;
     }
   }
 
@@ -292,7 +302,7 @@ void HoldWeakPoses(std::vector<PoseBlock>& poses, const ObservationCount& counts
 /// The per-frame data of one moving cluster while it is being adjusted.
 struct ClusterState {
   ClusterMotion* motion;
-  std::vector<int> frame_index;   // [frame - range.begin] → index in motion->frames, or -1
+  std::vector<int> frame_index;  // [frame - range.begin] → index in motion->frames, or -1
   std::vector<PoseBlock> cam_from_cluster;
   std::vector<PoseBlock> world_from_cluster;  // coupled modes only
 };
@@ -394,8 +404,8 @@ class Adjuster {
       cs.world_from_cluster.clear();
       for (size_t k = 0; k < cs.motion->frames.size(); ++k) {
         const int f = cs.motion->frames[k] - est_.range.begin;
-        cs.world_from_cluster.push_back(PoseBlock::From(
-            cam_from_world_[f].ToPose().inverse() * cs.cam_from_cluster[k].ToPose()));
+        cs.world_from_cluster.push_back(PoseBlock::From(cam_from_world_[f].ToPose().inverse() *
+                                                        cs.cam_from_cluster[k].ToPose()));
       }
       const int label = cs.motion->cluster;
       for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
@@ -434,8 +444,8 @@ class Adjuster {
       m.world_from_cluster.resize(m.frames.size());
       for (size_t k = 0; k < m.frames.size(); ++k) {
         m.cam_from_cluster[k] = cs.cam_from_cluster[k].ToPose();
-        m.world_from_cluster[k] = est_.world_from_cam[m.frames[k] - est_.range.begin] *
-                                  m.cam_from_cluster[k];
+        m.world_from_cluster[k] =
+            est_.world_from_cam[m.frames[k] - est_.range.begin] * m.cam_from_cluster[k];
       }
     }
   }
@@ -473,8 +483,7 @@ double EvaluateChi2(const TrackletTable& table, const StereoCamera& camera,
   std::map<int, const ClusterMotion*> by_label;
   for (const ClusterMotion& m : estimate->clusters) by_label[m.cluster] = &m;
   const int n = static_cast<int>(estimate->landmark_cluster.size());
-  if (per_landmark_mean)
-    per_landmark_mean->assign(n, std::numeric_limits<double>::quiet_NaN());
+  if (per_landmark_mean) per_landmark_mean->assign(n, std::numeric_limits<double>::quiet_NaN());
   std::vector<Pose> cam_from_world;
   for (const Pose& p : estimate->world_from_cam) cam_from_world.push_back(p.inverse());
   double chi2 = 0.0;

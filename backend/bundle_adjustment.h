@@ -26,7 +26,7 @@ struct BundleAdjustmentSummary {
   int num_residuals = 0;      ///< observations counted in the χ² values
   int iterations = 0;         ///< LM iterations summed over the solves
   int num_solves = 0;
-  bool usable = true;         ///< false when a Ceres solve reported FAILURE
+  bool usable = true;  ///< false when a Ceres solve reported FAILURE
 };
 
 /// Refines `estimate` in place (see the header comment for the frames and the gauge).

@@ -48,17 +48,16 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
       members[landmark_cluster[i]].push_back(i);
 
   for (const auto& [label, landmarks] : members) {
-    const ClusterShape shape = InitializeClusterShape(table, camera, range, landmarks,
-                                                      options.shape_init,
-                                                      options.point_to_point_icp);
+    const ClusterShape shape = InitializeClusterShape(
+        table, camera, range, landmarks, options.shape_init, options.point_to_point_icp);
     for (size_t k = 0; k < landmarks.size(); ++k) {
       if (!shape.point_in_cluster[k].allFinite()) continue;
       est.landmark_cluster[landmarks[k]] = label;
       est.landmark_in_cluster[landmarks[k]] = shape.point_in_cluster[k];
     }
     if (shape.num_unregistered > 0)
-      GetLogger("backend")->debug("cluster {}: {} of {} frames not registered (< {} points)",
-                                  label, shape.num_unregistered, shape.frames.size(),
+      GetLogger("backend")->debug("cluster {}: {} of {} frames not registered (< {} points)", label,
+                                  shape.num_unregistered, shape.frames.size(),
                                   options.shape_init.min_points);
     if (label == 0) {
       // The static cluster's frame is the world: P^c_t = T^{0c}_t. Frames without static

@@ -38,8 +38,8 @@ struct MotionEstimate {
 
 /// Options of EstimateMotions (spec §5, §6).
 struct MotionEstimationOptions {
-  ShapeInitOptions shape_init;               ///< section "shape_init"
-  BundleAdjustmentOptions bundle_adjustment; ///< section "bundle_adjustment"
+  ShapeInitOptions shape_init;                ///< section "shape_init"
+  BundleAdjustmentOptions bundle_adjustment;  ///< section "bundle_adjustment"
   /// Ablation [paper Table 4]: SVD point-to-point ICP and mean integration instead of the
   /// noise-aware registration and integration.
   bool point_to_point_icp = false;

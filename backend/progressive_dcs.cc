@@ -12,8 +12,8 @@ namespace cslam {
 
 void ProgressiveDcsOptions::Check() const {
   estimation.Check();
-  CheckOption(outlier_fraction > 0 && outlier_fraction < 1, "outlier_fraction",
-              "must be in (0, 1)", outlier_fraction);
+  CheckOption(outlier_fraction > 0 && outlier_fraction < 1, "outlier_fraction", "must be in (0, 1)",
+              outlier_fraction);
   CheckOption(min_outliers >= 1, "min_outliers", "must be >= 1", min_outliers);
   CheckOption(max_passes >= 1, "max_passes", "must be >= 1", max_passes);
 }

@@ -273,8 +273,10 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
           for (const FramePoint* fp : matched) {
             // Registration needs Σ in the camera frame: rotate the cluster-frame one back.
             const Eigen::Matrix3d R = current.linear();
-            RegistrationPoint rp{fp->p_in_cam, R.transpose() * covariance(*fp, current) * R,
-                                 models[fp->local].mean, {}};
+            RegistrationPoint rp{fp->p_in_cam,
+                                 R.transpose() * covariance(*fp, current) * R,
+                                 models[fp->local].mean,
+                                 {}};
             for (const Component& c : models[fp->local].components)
               rp.model_covariances.push_back(c.cov);
             corr.push_back(std::move(rp));

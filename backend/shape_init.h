@@ -51,13 +51,13 @@ struct ShapeInitOptions {
 
 /// Shape and trajectory of one cluster in its own frame.
 struct ClusterShape {
-  std::vector<int> landmarks;                   ///< ascending landmark ids (input order kept)
-  std::vector<Eigen::Vector3d> point_in_cluster;///< X̂^{q,i}, parallel to landmarks
-  std::vector<int> frames;                      ///< ascending frames where any landmark is seen
-  std::vector<Pose> cluster_from_cam;           ///< T^{qc}_t, parallel to frames
-  std::vector<bool> registered;                 ///< false: pose carried from a neighbour frame
-  int first_sight = -1;                         ///< frame of the cluster frame; -1 = never
-  int num_unregistered = 0;                     ///< frames in `frames` not registered
+  std::vector<int> landmarks;                     ///< ascending landmark ids (input order kept)
+  std::vector<Eigen::Vector3d> point_in_cluster;  ///< X̂^{q,i}, parallel to landmarks
+  std::vector<int> frames;                        ///< ascending frames where any landmark is seen
+  std::vector<Pose> cluster_from_cam;             ///< T^{qc}_t, parallel to frames
+  std::vector<bool> registered;                   ///< false: pose carried from a neighbour frame
+  int first_sight = -1;                           ///< frame of the cluster frame; -1 = never
+  int num_unregistered = 0;                       ///< frames in `frames` not registered
 };
 
 /// Initialises the shape of the cluster made of `landmarks` over `range`. With
@@ -73,8 +73,8 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
 struct RegistrationPoint {
   Eigen::Vector3d p_in_cam;
   Eigen::Matrix3d cov_in_cam;
-  Eigen::Vector3d model_mean;                     ///< X̂_{t-1} in the cluster frame
-  std::vector<Eigen::Matrix3d> model_covariances; ///< Σ_g, cluster frame
+  Eigen::Vector3d model_mean;                      ///< X̂_{t-1} in the cluster frame
+  std::vector<Eigen::Matrix3d> model_covariances;  ///< Σ_g, cluster frame
 };
 
 /// Eq. 3: the cluster_from_cam minimising the min-over-components negative log-likelihood,

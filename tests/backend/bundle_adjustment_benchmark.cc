@@ -22,8 +22,8 @@ void BM_DecoupledBundleAdjustment(benchmark::State& state) {
   const testing::BodyScene scene = testing::MakeBodyScene(spec);
   MotionEstimationOptions init;
   init.run_bundle_adjustment = false;
-  const MotionEstimate initial = EstimateMotions(scene.table, scene.camera,
-                                                 {0, spec.num_frames}, scene.labels, init);
+  const MotionEstimate initial =
+      EstimateMotions(scene.table, scene.camera, {0, spec.num_frames}, scene.labels, init);
   BundleAdjustmentOptions options;  // defaults: decoupled, Huber, 20 iterations
   BundleAdjustmentSummary summary;
   for (auto _ : state) {
@@ -40,8 +40,12 @@ void BM_DecoupledBundleAdjustment(benchmark::State& state) {
   state.counters["lm_iterations"] = summary.iterations;
   state.counters["peak_rss_MB"] = usage.ru_maxrss / 1024.0;
 }
-BENCHMARK(BM_DecoupledBundleAdjustment)->Arg(2000)->Arg(5000)->Arg(10000)
-    ->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_DecoupledBundleAdjustment)
+    ->Arg(2000)
+    ->Arg(5000)
+    ->Arg(10000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 }  // namespace
 }  // namespace cslam

@@ -23,7 +23,8 @@ MotionEstimate Initialise(const BodyScene& scene, const MotionEstimationOptions&
 /// Mean centroid-track RMSE of the moving clusters (see CentroidTrackRmse).
 double ObjectError(const BodyScene& scene, const MotionEstimate& est) {
   double sum = 0.0;
-  for (const ClusterMotion& m : est.clusters) sum += testing::CentroidTrackRmse(scene, est, m.cluster);
+  for (const ClusterMotion& m : est.clusters)
+    sum += testing::CentroidTrackRmse(scene, est, m.cluster);
   return est.clusters.empty() ? 0.0 : sum / est.clusters.size();
 }
 
@@ -38,9 +39,9 @@ TEST(BundleAdjustment, LowersChi2AndMovesPosesTowardsTheTruth) {
   const BundleAdjustmentSummary s = AdjustBundle(scene.table, scene.camera, o, &est);
   const double ate_after = Ate(est.world_from_cam, scene.world_from_cam);
   const double obj_after = ObjectError(scene, est);
-  std::printf("BA: chi2 %.1f -> %.1f (%d residuals), camera ATE %.4f -> %.4f, objects %.4f -> %.4f\n",
-              s.initial_chi2, s.final_chi2, s.num_residuals, ate_before, ate_after, obj_before,
-              obj_after);
+  std::printf(
+      "BA: chi2 %.1f -> %.1f (%d residuals), camera ATE %.4f -> %.4f, objects %.4f -> %.4f\n",
+      s.initial_chi2, s.final_chi2, s.num_residuals, ate_before, ate_after, obj_before, obj_after);
   EXPECT_TRUE(s.usable);
   EXPECT_LT(s.final_chi2, 0.9 * s.initial_chi2);
   // At convergence the χ² per residual is close to its expectation, 3 − (unknowns / residuals).
@@ -76,16 +77,18 @@ TEST(BundleAdjustment, CouplingModesAgreeOnACleanScene) {
   spec.pixel_sigma = 0.3;
   const BodyScene scene = MakeBodyScene(spec);
   std::vector<MotionEstimate> results;
-  for (BaCoupling c : {BaCoupling::kDecoupled, BaCoupling::kSemiCoupled, BaCoupling::kFullyCoupled}) {
+  for (BaCoupling c :
+       {BaCoupling::kDecoupled, BaCoupling::kSemiCoupled, BaCoupling::kFullyCoupled}) {
     MotionEstimationOptions o;
     o.bundle_adjustment.coupling = c;
     o.bundle_adjustment.max_iterations = 50;
-    results.push_back(EstimateMotions(scene.table, scene.camera, {0, spec.num_frames}, scene.labels, o));
+    results.push_back(
+        EstimateMotions(scene.table, scene.camera, {0, spec.num_frames}, scene.labels, o));
   }
   for (size_t m = 1; m < results.size(); ++m) {
     for (int f = 0; f < spec.num_frames; ++f)
-      EXPECT_TRUE(cslam::testing::PoseNear(results[m].world_from_cam[f], results[0].world_from_cam[f],
-                                           1e-3, 3e-3))
+      EXPECT_TRUE(cslam::testing::PoseNear(results[m].world_from_cam[f],
+                                           results[0].world_from_cam[f], 1e-3, 3e-3))
           << "mode " << m << " frame " << f;
     // A moving cluster's frame is a gauge: compare where its landmarks are in the world.
     ASSERT_EQ(results[m].clusters.size(), results[0].clusters.size());
@@ -97,9 +100,10 @@ TEST(BundleAdjustment, CouplingModesAgreeOnACleanScene) {
       for (size_t i = 0; i < scene.labels.size(); ++i) {
         if (results[0].landmark_cluster[i] != ref.cluster) continue;
         for (size_t k = 0; k < ref.frames.size(); ++k)
-          max_err = std::max(max_err, (ref.world_from_cluster[k] * results[0].landmark_in_cluster[i] -
-                                       other->world_from_cluster[k] * results[m].landmark_in_cluster[i])
-                                          .norm());
+          max_err =
+              std::max(max_err, (ref.world_from_cluster[k] * results[0].landmark_in_cluster[i] -
+                                 other->world_from_cluster[k] * results[m].landmark_in_cluster[i])
+                                    .norm());
       }
       EXPECT_LT(max_err, 0.01) << "mode " << m << " cluster " << ref.cluster;
     }

@@ -88,7 +88,8 @@ TEST(EstimateMotions, ProgressiveDcsSplitsOffMovingPoints) {
   spec.pixel_sigma = 0.5;
   const BodyScene scene = MakeBodyScene(spec);
   const FrameRange range{0, scene.table.num_frames()};
-  const BackendResult r = RunProgressiveDcs(scene.table, scene.camera, range, ProgressiveDcsOptions{});
+  const BackendResult r =
+      RunProgressiveDcs(scene.table, scene.camera, range, ProgressiveDcsOptions{});
   EXPECT_EQ(r.method, "pdcs");
   ASSERT_FALSE(r.iterations.empty());
   // 400 static points against one 40-point body: the all-static DCS solve follows the static

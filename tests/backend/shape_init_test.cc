@@ -56,8 +56,8 @@ TEST(ShapeInit, RecoversAKnownTrajectoryUnderPixelNoise) {
   for (size_t k = 0; k < shape.frames.size(); ++k) {
     const Pose& truth = scene.world_from_cam[shape.frames[k]];
     max_t = std::max(max_t, (shape.cluster_from_cam[k].translation() - truth.translation()).norm());
-    max_r = std::max(max_r, RotationAngle(shape.cluster_from_cam[k].linear().transpose() *
-                                          truth.linear()));
+    max_r = std::max(
+        max_r, RotationAngle(shape.cluster_from_cam[k].linear().transpose() * truth.linear()));
   }
   RecordProperty("max_translation_error_m", std::to_string(max_t));
   std::printf("shape init indoor: max translation error %.4f m, max rotation error %.5f rad\n",
@@ -98,8 +98,8 @@ TEST(ShapeInit, MovingClusterTrajectoryIsRecovered) {
   spec.points_per_body = 80;
   const BodyScene scene = MakeBodyScene(spec);
   const std::vector<int> landmarks = LandmarksOf(scene, 1);
-  const ClusterShape shape = InitializeClusterShape(
-      scene.table, scene.camera, {0, spec.num_frames}, landmarks, ShapeInitOptions{});
+  const ClusterShape shape = InitializeClusterShape(scene.table, scene.camera, {0, spec.num_frames},
+                                                    landmarks, ShapeInitOptions{});
   ASSERT_EQ(shape.first_sight, 0);
   EXPECT_EQ(shape.num_unregistered, 0);
   Eigen::Vector3d centroid_est = Eigen::Vector3d::Zero(), centroid_true = Eigen::Vector3d::Zero();
@@ -157,8 +157,7 @@ TEST(ShapeInit, FramesWithTooFewPointsCarryThePreviousPose) {
   cam.baseline = 0.2;
   cam.width = 640;
   cam.height = 480;
-  const std::vector<Eigen::Vector3d> points = {
-      {-1, -1, 5}, {1, -1, 6}, {1, 1, 5}, {-1, 1, 7}};
+  const std::vector<Eigen::Vector3d> points = {{-1, -1, 5}, {1, -1, 6}, {1, 1, 5}, {-1, 1, 7}};
   TrackletTable table;
   for (int f = 0; f < 4; ++f)
     for (int i = 0; i < 4; ++i) {
@@ -188,7 +187,8 @@ TEST(ShapeInit, OptionsCheckNamesTheField) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("min_points"), std::string::npos);
   }
-  auto reader = OptionsReader::FromString("max_mixture_components: 2\nhuber_threshold_sigma: 4.5\n", "t");
+  auto reader =
+      OptionsReader::FromString("max_mixture_components: 2\nhuber_threshold_sigma: 4.5\n", "t");
   ShapeInitOptions loaded;
   loaded.Load(reader);
   reader.Finish();

@@ -17,11 +17,11 @@ namespace cslam::testing {
 /// What to generate.
 struct BodySceneSpec {
   int num_frames = 30;
-  bool outdoor = false;          ///< baseline 0.5 m, far points, fast camera
+  bool outdoor = false;  ///< baseline 0.5 m, far points, fast camera
   int num_static = 300;
-  int num_moving = 2;            ///< moving rigid bodies
+  int num_moving = 2;  ///< moving rigid bodies
   int points_per_body = 60;
-  double pixel_sigma = 1.0;      ///< px, on uL, vL, uR
+  double pixel_sigma = 1.0;             ///< px, on uL, vL, uR
   double gross_outlier_fraction = 0.0;  ///< observations displaced by `gross_outlier_px`
   double gross_outlier_px = 40.0;
   unsigned seed = 1;
@@ -31,10 +31,10 @@ struct BodySceneSpec {
 struct BodyScene {
   StereoCamera camera;
   TrackletTable table;
-  std::vector<Pose> world_from_cam;                  ///< [frame]; world = camera at frame 0
-  std::vector<std::vector<Pose>> world_from_body;    ///< [body][frame]; body 0 = static (I)
-  std::vector<int> labels;                           ///< [landmark] body index
-  std::vector<Eigen::Vector3d> point_in_body;        ///< [landmark]
+  std::vector<Pose> world_from_cam;                ///< [frame]; world = camera at frame 0
+  std::vector<std::vector<Pose>> world_from_body;  ///< [body][frame]; body 0 = static (I)
+  std::vector<int> labels;                         ///< [landmark] body index
+  std::vector<Eigen::Vector3d> point_in_body;      ///< [landmark]
 };
 
 inline Pose MakePose(double yaw, double pitch, const Eigen::Vector3d& t) {
@@ -54,7 +54,7 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
   s.camera.width = 1280;
   s.camera.height = 720;
   s.camera.baseline = spec.outdoor ? 0.5 : 0.1;
-  const double speed = spec.outdoor ? 1.0 : 0.05;   // m per frame along z
+  const double speed = spec.outdoor ? 1.0 : 0.05;  // m per frame along z
   const double far = spec.outdoor ? 60.0 : 10.0;
   std::mt19937 rng(spec.seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -80,16 +80,16 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
     const double side = (b % 2 == 1) ? 1.0 : -1.0;
     const Eigen::Vector3d start = spec.outdoor ? Eigen::Vector3d(side * 4.0, 0.5, 12.0 + 4 * b)
                                                : Eigen::Vector3d(side * 0.9, 0.2, 2.4 + 0.4 * b);
-    const Eigen::Vector3d vel =
-        spec.outdoor ? Eigen::Vector3d(-side * 0.08, 0.0, speed + 0.4 * b)
-                     : Eigen::Vector3d(-side * 0.02, 0.005 * b, speed + 0.015 * b);
+    const Eigen::Vector3d vel = spec.outdoor
+                                    ? Eigen::Vector3d(-side * 0.08, 0.0, speed + 0.4 * b)
+                                    : Eigen::Vector3d(-side * 0.02, 0.005 * b, speed + 0.015 * b);
     const double spin = 0.015 * b * side;
     std::vector<Pose> traj;
     for (int t = 0; t < spec.num_frames; ++t)
       traj.push_back(MakePose(0.3 * b + spin * t, 0.0, start + vel * t));
     s.world_from_body.push_back(traj);
-    const Eigen::Vector3d half = spec.outdoor ? Eigen::Vector3d(1.0, 0.8, 2.2)
-                                              : Eigen::Vector3d(0.5, 0.4, 0.5);
+    const Eigen::Vector3d half =
+        spec.outdoor ? Eigen::Vector3d(1.0, 0.8, 2.2) : Eigen::Vector3d(0.5, 0.4, 0.5);
     for (int i = 0; i < spec.points_per_body; ++i) {
       s.labels.push_back(b);
       s.point_in_body.emplace_back(uni(-half.x(), half.x()), uni(-half.y(), half.y()),
@@ -102,8 +102,8 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
   for (int i = 0; i < static_cast<int>(s.labels.size()); ++i) {
     const int id = s.table.NewLandmark();
     for (int t = 0; t < spec.num_frames; ++t) {
-      const Eigen::Vector3d p_cam = s.world_from_cam[t].inverse() *
-                                    (s.world_from_body[s.labels[i]][t] * s.point_in_body[i]);
+      const Eigen::Vector3d p_cam =
+          s.world_from_cam[t].inverse() * (s.world_from_body[s.labels[i]][t] * s.point_in_body[i]);
       if (p_cam.z() < 1.0 || p_cam.z() > far) continue;
       Eigen::Vector3d x;
       if (!s.camera.Project(p_cam, &x) || !s.camera.InImage(x, 2.0)) continue;
@@ -153,8 +153,8 @@ double CentroidTrackRmse(const BodyScene& scene, const Estimate& est, int label)
   c_true /= n;
   double sum = 0.0;
   for (size_t k = 0; k < m->frames.size(); ++k)
-    sum += (m->world_from_cluster[k] * c_est -
-            scene.world_from_body[label][m->frames[k]] * c_true).squaredNorm();
+    sum += (m->world_from_cluster[k] * c_est - scene.world_from_body[label][m->frames[k]] * c_true)
+               .squaredNorm();
   return std::sqrt(sum / m->frames.size());
 }
 
