@@ -4,6 +4,7 @@
 #include <map>
 
 #include "backend/bundle_adjustment.h"
+#include "core/errors.h"
 #include "core/logging.h"
 
 namespace cslam {
@@ -15,8 +16,17 @@ const ClusterMotion* MotionEstimate::FindCluster(int label) const {
 }
 
 void MotionEstimationOptions::Check() const {
-  shape_init.Check();
-  bundle_adjustment.Check();
+  // Prefix the section so the message names the full key path.
+  try {
+    shape_init.Check();
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("shape_init.") + e.what());
+  }
+  try {
+    bundle_adjustment.Check();
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("bundle_adjustment.") + e.what());
+  }
 }
 
 void MotionEstimationOptions::Load(OptionsReader& reader) {

@@ -148,6 +148,15 @@ TEST(EstimateMotions, OptionsLoadNestedSections) {
   EXPECT_EQ(o.shape_init.max_mixture_components, 2);
   EXPECT_EQ(o.bundle_adjustment.robust_kernel, RobustKernel::kDcs);
   o.Check();
+  MotionEstimationOptions broken;
+  broken.bundle_adjustment.max_iterations = -1;
+  try {
+    broken.Check();
+    ADD_FAILURE() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("bundle_adjustment.max_iterations"), std::string::npos)
+        << e.what();
+  }
   auto bad = OptionsReader::FromString("shape_init:\n  max_mixture: 2\n", "t");
   EXPECT_THROW(o.Load(bad), ConfigError);
 }
