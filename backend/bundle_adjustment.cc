@@ -1,0 +1,529 @@
+#include "backend/bundle_adjustment.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "core/errors.h"
+#include "core/logging.h"
+
+namespace cslam {
+
+std::string ToString(RobustKernel kernel) {
+  switch (kernel) {
+    case RobustKernel::kNone:
+      return "none";
+    case RobustKernel::kHuber:
+      return "huber";
+    case RobustKernel::kDcs:
+      return "dcs";
+  }
+  return "?";
+}
+
+RobustKernel ParseRobustKernel(const std::string& text, const std::string& key) {
+  if (text == "none") return RobustKernel::kNone;
+  if (text == "huber") return RobustKernel::kHuber;
+  if (text == "dcs") return RobustKernel::kDcs;
+  throw ConfigError(key + ": must be one of none, huber, dcs, got '" + text + "'");
+}
+
+std::string ToString(BaCoupling coupling) {
+  switch (coupling) {
+    case BaCoupling::kDecoupled:
+      return "decoupled";
+    case BaCoupling::kSemiCoupled:
+      return "semi_coupled";
+    case BaCoupling::kFullyCoupled:
+      return "fully_coupled";
+  }
+  return "?";
+}
+
+BaCoupling ParseBaCoupling(const std::string& text, const std::string& key) {
+  if (text == "decoupled") return BaCoupling::kDecoupled;
+  if (text == "semi_coupled") return BaCoupling::kSemiCoupled;
+  if (text == "fully_coupled") return BaCoupling::kFullyCoupled;
+  throw ConfigError(key + ": must be one of decoupled, semi_coupled, fully_coupled, got '" + text +
+                    "'");
+}
+
+void BundleAdjustmentOptions::Check() const {
+  CheckOption(robust_threshold_chi2 > 0, "robust_threshold_chi2", "must be > 0",
+              robust_threshold_chi2);
+  CheckOption(max_iterations >= 0, "max_iterations", "must be >= 0", max_iterations);
+  CheckOption(function_tolerance > 0, "function_tolerance", "must be > 0", function_tolerance);
+  CheckOption(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
+  CheckOption(min_observations_per_pose >= 1, "min_observations_per_pose", "must be >= 1",
+              min_observations_per_pose);
+  CheckOption(sparse_schur_min_poses >= 0, "sparse_schur_min_poses", "must be >= 0",
+              sparse_schur_min_poses);
+}
+
+void BundleAdjustmentOptions::Load(OptionsReader& reader) {
+  std::string coupling_text = ToString(coupling);
+  reader.Read("coupling", &coupling_text);
+  coupling = ParseBaCoupling(coupling_text, reader.Where("coupling"));
+  std::string kernel_text = ToString(robust_kernel);
+  reader.Read("robust_kernel", &kernel_text);
+  robust_kernel = ParseRobustKernel(kernel_text, reader.Where("robust_kernel"));
+  reader.Read("robust_threshold_chi2", &robust_threshold_chi2);
+  reader.Read("max_iterations", &max_iterations);
+  reader.Read("function_tolerance", &function_tolerance);
+  reader.Read("num_threads", &num_threads);
+  reader.Read("min_observations_per_pose", &min_observations_per_pose);
+  reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
+}
+
+namespace {
+
+/// Dynamic covariance scaling (Agarwal et al., ICRA 2013) as an M-estimator: its IRLS weight
+/// is the DCS scale² = (2Φ/(Φ+s))² for s > Φ, which integrates to ρ(s) = 3Φ − 4Φ²/(Φ+s).
+class DcsLoss final : public ceres::LossFunction {
+ public:
+  explicit DcsLoss(double phi) : phi_(phi) {}
+  void Evaluate(double s, double rho[3]) const override {
+    if (s <= phi_) {
+      rho[0] = s;
+      rho[1] = 1.0;
+      rho[2] = 0.0;
+      return;
+    }
+    const double d = phi_ + s;
+    rho[0] = 3.0 * phi_ - 4.0 * phi_ * phi_ / d;
+    rho[1] = 4.0 * phi_ * phi_ / (d * d);
+    rho[2] = -8.0 * phi_ * phi_ / (d * d * d);
+  }
+
+ private:
+  double phi_;
+};
+
+/// A pose b_from_a as two Ceres blocks: Eigen quaternion (x, y, z, w) and translation.
+struct PoseBlock {
+  std::array<double, 4> q{0, 0, 0, 1};
+  std::array<double, 3> t{0, 0, 0};
+
+  static PoseBlock From(const Pose& pose) {
+    PoseBlock b;
+    const Eigen::Quaterniond q(pose.linear());
+    b.q = {q.x(), q.y(), q.z(), q.w()};
+    b.t = {pose.translation().x(), pose.translation().y(), pose.translation().z()};
+    return b;
+  }
+  Pose ToPose() const {
+    Pose pose = Pose::Identity();
+    pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+    return pose;
+  }
+};
+
+/// Square root of the information: Lᵀ with Σ⁻¹ = L Lᵀ, so ‖Lᵀe‖² = eᵀΣ⁻¹e.
+Eigen::Matrix3d SqrtInformation(const Eigen::Matrix3d& cov) {
+  const Eigen::Matrix3d info = cov.inverse();
+  return Eigen::LLT<Eigen::Matrix3d>(info).matrixL().transpose();
+}
+
+/// Whitened stereo reprojection error of a point in body frame b seen from camera c through
+/// one pose cam_from_body (parameters: q, t, point).
+struct ReprojectionCost {
+  ReprojectionCost(const StereoCamera& camera, const Eigen::Vector3d& x,
+                   const Eigen::Matrix3d& sqrt_info)
+      : camera_(camera), x_(x), sqrt_info_(sqrt_info) {}
+
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* point, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rotation(q);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> translation(t);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> p(point);
+    const Eigen::Matrix<T, 3, 1> p_in_cam = rotation * p + translation;
+    return Residual(p_in_cam, residual);
+  }
+
+  template <typename T>
+  bool Residual(const Eigen::Matrix<T, 3, 1>& p_in_cam, T* residual) const {
+    Eigen::Matrix<T, 3, 1> predicted;
+    if (!camera_.Project(p_in_cam, &predicted)) return false;
+    const Eigen::Matrix<T, 3, 1> e = x_.cast<T>() - predicted;
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = sqrt_info_.cast<T>() * e;
+    return true;
+  }
+
+  const StereoCamera& camera_;
+  Eigen::Vector3d x_;
+  Eigen::Matrix3d sqrt_info_;
+};
+
+/// The coupled form of the moving-cluster residual: p_cam = cam_from_world · world_from_cluster ·
+/// X.
+struct CoupledReprojectionCost {
+  explicit CoupledReprojectionCost(const ReprojectionCost& base) : base_(base) {}
+  template <typename T>
+  bool operator()(const T* q_cw, const T* t_cw, const T* q_wq, const T* t_wq, const T* point,
+                  T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> r_cw(q_cw), r_wq(q_wq);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr_cw(t_cw), tr_wq(t_wq), p(point);
+    const Eigen::Matrix<T, 3, 1> p_in_world = r_wq * p + tr_wq;
+    return base_.Residual<T>(r_cw * p_in_world + tr_cw, residual);
+  }
+  ReprojectionCost base_;
+};
+
+/// Everything one Ceres solve needs that must outlive the Problem.
+class Solve {
+ public:
+  Solve(const StereoCamera& camera, const BundleAdjustmentOptions& options)
+      : camera_(camera), options_(options) {
+    ceres::Problem::Options po;
+    po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_ = std::make_unique<ceres::Problem>(po);
+    switch (options.robust_kernel) {
+      case RobustKernel::kNone:
+        break;
+      case RobustKernel::kHuber:
+        loss_ = std::make_unique<ceres::HuberLoss>(std::sqrt(options.robust_threshold_chi2));
+        break;
+      case RobustKernel::kDcs:
+        loss_ = std::make_unique<DcsLoss>(options.robust_threshold_chi2);
+        break;
+    }
+  }
+
+  /// Observation of `point` through pose `cam_from_body`; skipped (false) when the point is
+  /// not in front of the camera at the initial state.
+  bool AddObservation(const StereoObservation& obs, PoseBlock* cam_from_body, double* point) {
+    const ReprojectionCost cost(camera_, obs.x, SqrtInformation(obs.cov));
+    Eigen::Vector3d r;
+    if (!cost(cam_from_body->q.data(), cam_from_body->t.data(), point, r.data())) return false;
+    problem_->AddResidualBlock(
+        new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 4, 3, 3>(new ReprojectionCost(cost)),
+        loss_.get(), cam_from_body->q.data(), cam_from_body->t.data(), point);
+    AddPose(cam_from_body);
+    AddPoint(point);
+    return true;
+  }
+
+  bool AddCoupledObservation(const StereoObservation& obs, PoseBlock* cam_from_world,
+                             PoseBlock* world_from_cluster, double* point) {
+    const CoupledReprojectionCost cost(ReprojectionCost(camera_, obs.x, SqrtInformation(obs.cov)));
+    Eigen::Vector3d r;
+    if (!cost(cam_from_world->q.data(), cam_from_world->t.data(), world_from_cluster->q.data(),
+              world_from_cluster->t.data(), point, r.data()))
+      return false;
+    problem_->AddResidualBlock(
+        new ceres::AutoDiffCostFunction<CoupledReprojectionCost, 3, 4, 3, 4, 3, 3>(
+            new CoupledReprojectionCost(cost)),
+        loss_.get(), cam_from_world->q.data(), cam_from_world->t.data(),
+        world_from_cluster->q.data(), world_from_cluster->t.data(), point);
+    AddPose(cam_from_world);
+    AddPose(world_from_cluster);
+    AddPoint(point);
+    return true;
+  }
+
+  bool Has(const PoseBlock& pose) const { return problem_->HasParameterBlock(pose.t.data()); }
+  void HoldConstant(PoseBlock* pose) {
+    if (!Has(*pose)) return;
+    problem_->SetParameterBlockConstant(pose->q.data());
+    problem_->SetParameterBlockConstant(pose->t.data());
+  }
+
+  /// Runs Levenberg–Marquardt; adds to `summary`.
+  void Run(BundleAdjustmentSummary* summary) {
+    if (problem_->NumResidualBlocks() == 0) return;
+    ceres::Solver::Options so;
+    so.max_num_iterations = options_.max_iterations;
+    so.function_tolerance = options_.function_tolerance;
+    so.num_threads = options_.num_threads;
+    so.logging_type = ceres::SILENT;
+    so.minimizer_progress_to_stdout = false;
+    const bool sparse = num_poses_ >= options_.sparse_schur_min_poses &&
+                        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
+    so.linear_solver_type = sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
+    if (sparse) so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    for (double* p : points_) ordering->AddElementToGroup(p, 0);
+    for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
+    so.linear_solver_ordering = ordering;
+    ceres::Solver::Summary s;
+    ceres::Solve(so, problem_.get(), &s);
+    summary->iterations += static_cast<int>(s.iterations.size());
+    ++summary->num_solves;
+    if (s.termination_type == ceres::FAILURE) {
+      summary->usable = false;
+      GetLogger("backend")->warn("bundle adjustment solve failed: {}", s.message);
+    }
+  }
+
+ private:
+  void AddPose(PoseBlock* pose) {
+    if (known_.insert(pose->t.data()).second) {
+      problem_->SetManifold(pose->q.data(), &quaternion_manifold_);
+      pose_blocks_.push_back(pose->q.data());
+      pose_blocks_.push_back(pose->t.data());
+      ++num_poses_;
+    }
+  }
+  void AddPoint(double* point) {
+    if (known_.insert(point).second) points_.push_back(point);
+  }
+
+  const StereoCamera& camera_;
+  const BundleAdjustmentOptions& options_;
+  ceres::EigenQuaternionManifold quaternion_manifold_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+  std::unique_ptr<ceres::Problem> problem_;
+  std::set<const double*> known_;
+  std::vector<double*> points_, pose_blocks_;
+  int num_poses_ = 0;
+};
+
+/// Counts observations per pose block so that poorly observed poses can be held.
+using ObservationCount = std::map<const PoseBlock*, int>;
+
+void HoldWeakPoses(std::vector<PoseBlock>& poses, const ObservationCount& counts, int min_count,
+                   Solve* solve) {
+  for (PoseBlock& pose : poses) {
+    auto it = counts.find(&pose);
+    if (it != counts.end() && it->second < min_count) solve->HoldConstant(&pose);
+  }
+}
+
+/// The per-frame data of one moving cluster while it is being adjusted.
+struct ClusterState {
+  ClusterMotion* motion;
+  std::vector<int> frame_index;  // [frame - range.begin] → index in motion->frames, or -1
+  std::vector<PoseBlock> cam_from_cluster;
+  std::vector<PoseBlock> world_from_cluster;  // coupled modes only
+};
+
+class Adjuster {
+ public:
+  Adjuster(const TrackletTable& table, const StereoCamera& camera,
+           const BundleAdjustmentOptions& options, MotionEstimate* estimate)
+      : table_(table), camera_(camera), options_(options), est_(*estimate) {
+    const FrameRange range = est_.range;
+    for (const Pose& world_from_cam : est_.world_from_cam)
+      cam_from_world_.push_back(PoseBlock::From(world_from_cam.inverse()));
+    points_.resize(est_.landmark_in_cluster.size());
+    for (size_t i = 0; i < points_.size(); ++i)
+      for (int k = 0; k < 3; ++k) points_[i][k] = est_.landmark_in_cluster[i](k);
+    for (ClusterMotion& motion : est_.clusters) {
+      ClusterState cs{&motion, std::vector<int>(range.size(), -1), {}, {}};
+      for (size_t k = 0; k < motion.frames.size(); ++k) {
+        cs.frame_index[motion.frames[k] - range.begin] = static_cast<int>(k);
+        cs.cam_from_cluster.push_back(PoseBlock::From(motion.cam_from_cluster[k]));
+      }
+      cluster_of_label_[motion.cluster] = static_cast<int>(clusters_.size());
+      clusters_.push_back(std::move(cs));
+    }
+  }
+
+  BundleAdjustmentSummary Run() {
+    BundleAdjustmentSummary summary;
+    if (options_.coupling != BaCoupling::kFullyCoupled)
+      for (ClusterState& cs : clusters_) SolveCluster(&cs, &summary);
+    if (options_.coupling == BaCoupling::kDecoupled) {
+      SolveStatic(&summary);
+    } else {
+      SolveCoupled(&summary);
+    }
+    WriteBack();
+    return summary;
+  }
+
+ private:
+  bool Usable(int landmark) const {
+    return est_.landmark_cluster[landmark] >= 0 && est_.landmark_in_cluster[landmark].allFinite();
+  }
+
+  /// Step (1): one moving cluster's landmarks and per-frame T^{cq}_t.
+  void SolveCluster(ClusterState* cs, BundleAdjustmentSummary* summary) {
+    Solve solve(camera_, options_);
+    ObservationCount counts;
+    const int label = cs->motion->cluster;
+    for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
+      if (est_.landmark_cluster[i] != label || !Usable(i)) continue;
+      for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
+        const int k = cs->frame_index[obs.frame - est_.range.begin];
+        if (k < 0) continue;
+        if (solve.AddObservation(obs, &cs->cam_from_cluster[k], points_[i].data()))
+          ++counts[&cs->cam_from_cluster[k]];
+      }
+    }
+    HoldWeakPoses(cs->cam_from_cluster, counts, options_.min_observations_per_pose, &solve);
+    // Gauge: the cluster's frame is arbitrary up to SE(3); hold its first well-seen pose.
+    for (PoseBlock& pose : cs->cam_from_cluster) {
+      auto it = counts.find(&pose);
+      if (it != counts.end() && it->second >= options_.min_observations_per_pose) {
+        solve.HoldConstant(&pose);
+        break;
+      }
+    }
+    solve.Run(summary);
+  }
+
+  /// Step (2) of the decoupled scheme: camera poses and static landmarks.
+  void SolveStatic(BundleAdjustmentSummary* summary) {
+    Solve solve(camera_, options_);
+    ObservationCount counts;
+    AddStatic(&solve, &counts);
+    HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
+    if (!cam_from_world_.empty()) solve.HoldConstant(&cam_from_world_[0]);
+    solve.Run(summary);
+  }
+
+  void AddStatic(Solve* solve, ObservationCount* counts) {
+    for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
+      if (est_.landmark_cluster[i] != 0 || !Usable(i)) continue;
+      for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
+        PoseBlock* pose = &cam_from_world_[obs.frame - est_.range.begin];
+        if (solve->AddObservation(obs, pose, points_[i].data())) ++(*counts)[pose];
+      }
+    }
+  }
+
+  /// The whole E: camera, static landmarks, and every moving cluster through P^q_t. A moving
+  /// cluster's own SE(3) gauge is left to the Levenberg–Marquardt damping: holding one of its
+  /// world poses would make that frame's observations pull on the camera pose.
+  void SolveCoupled(BundleAdjustmentSummary* summary) {
+    Solve solve(camera_, options_);
+    ObservationCount counts;
+    AddStatic(&solve, &counts);
+    for (ClusterState& cs : clusters_) {
+      cs.world_from_cluster.clear();
+      for (size_t k = 0; k < cs.motion->frames.size(); ++k) {
+        const int f = cs.motion->frames[k] - est_.range.begin;
+        cs.world_from_cluster.push_back(PoseBlock::From(cam_from_world_[f].ToPose().inverse() *
+                                                        cs.cam_from_cluster[k].ToPose()));
+      }
+      const int label = cs.motion->cluster;
+      for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
+        if (est_.landmark_cluster[i] != label || !Usable(i)) continue;
+        for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
+          const int f = obs.frame - est_.range.begin;
+          const int k = cs.frame_index[f];
+          if (k < 0) continue;
+          if (solve.AddCoupledObservation(obs, &cam_from_world_[f], &cs.world_from_cluster[k],
+                                          points_[i].data()))
+            ++counts[&cs.world_from_cluster[k]];
+        }
+      }
+      HoldWeakPoses(cs.world_from_cluster, counts, options_.min_observations_per_pose, &solve);
+    }
+    HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
+    if (!cam_from_world_.empty()) solve.HoldConstant(&cam_from_world_[0]);
+    solve.Run(summary);
+    for (ClusterState& cs : clusters_)
+      for (size_t k = 0; k < cs.motion->frames.size(); ++k) {
+        const int f = cs.motion->frames[k] - est_.range.begin;
+        cs.cam_from_cluster[k] =
+            PoseBlock::From(cam_from_world_[f].ToPose() * cs.world_from_cluster[k].ToPose());
+      }
+  }
+
+  /// Step (3): P^q_t = P^c_t T^{cq}_t, and the refined values back into the estimate.
+  void WriteBack() {
+    for (size_t f = 0; f < cam_from_world_.size(); ++f)
+      est_.world_from_cam[f] = cam_from_world_[f].ToPose().inverse();
+    for (size_t i = 0; i < points_.size(); ++i)
+      if (Usable(static_cast<int>(i)))
+        est_.landmark_in_cluster[i] = Eigen::Vector3d(points_[i][0], points_[i][1], points_[i][2]);
+    for (ClusterState& cs : clusters_) {
+      ClusterMotion& m = *cs.motion;
+      m.world_from_cluster.resize(m.frames.size());
+      for (size_t k = 0; k < m.frames.size(); ++k) {
+        m.cam_from_cluster[k] = cs.cam_from_cluster[k].ToPose();
+        m.world_from_cluster[k] =
+            est_.world_from_cam[m.frames[k] - est_.range.begin] * m.cam_from_cluster[k];
+      }
+    }
+  }
+
+  const TrackletTable& table_;
+  const StereoCamera& camera_;
+  const BundleAdjustmentOptions& options_;
+  MotionEstimate& est_;
+  std::vector<PoseBlock> cam_from_world_;
+  std::vector<std::array<double, 3>> points_;
+  std::vector<ClusterState> clusters_;
+  std::map<int, int> cluster_of_label_;
+};
+
+}  // namespace
+
+BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
+                                     const BundleAdjustmentOptions& options,
+                                     MotionEstimate* estimate) {
+  CSLAM_CHECK(static_cast<int>(estimate->world_from_cam.size()) == estimate->range.size(),
+              "AdjustBundle: world_from_cam must have one pose per frame of the range");
+  CSLAM_CHECK(estimate->landmark_cluster.size() == estimate->landmark_in_cluster.size(),
+              "AdjustBundle: landmark_cluster and landmark_in_cluster must be parallel");
+  const double initial = EvaluateChi2(table, camera, estimate);
+  BundleAdjustmentSummary summary = Adjuster(table, camera, options, estimate).Run();
+  summary.initial_chi2 = initial;
+  summary.final_chi2 = EvaluateChi2(table, camera, estimate);
+  summary.num_residuals = estimate->num_residuals;
+  return summary;
+}
+
+double EvaluateChi2(const TrackletTable& table, const StereoCamera& camera,
+                    MotionEstimate* estimate, std::vector<double>* per_landmark_mean) {
+  const FrameRange range = estimate->range;
+  std::map<int, const ClusterMotion*> by_label;
+  for (const ClusterMotion& m : estimate->clusters) by_label[m.cluster] = &m;
+  const int n = static_cast<int>(estimate->landmark_cluster.size());
+  if (per_landmark_mean) per_landmark_mean->assign(n, std::numeric_limits<double>::quiet_NaN());
+  std::vector<Pose> cam_from_world;
+  for (const Pose& p : estimate->world_from_cam) cam_from_world.push_back(p.inverse());
+  double chi2 = 0.0;
+  int count = 0;
+  for (int i = 0; i < n && i < table.num_landmarks(); ++i) {
+    const int label = estimate->landmark_cluster[i];
+    const Eigen::Vector3d& point = estimate->landmark_in_cluster[i];
+    if (label < 0 || !point.allFinite()) continue;
+    const ClusterMotion* motion = nullptr;
+    if (label > 0) {
+      auto it = by_label.find(label);
+      if (it == by_label.end()) continue;
+      motion = it->second;
+    }
+    double sum = 0.0;
+    int num = 0;
+    for (const StereoObservation& obs : table.ObservationsOf(i, range)) {
+      Eigen::Vector3d p_in_cam;
+      if (motion) {
+        auto f = std::lower_bound(motion->frames.begin(), motion->frames.end(), obs.frame);
+        if (f == motion->frames.end() || *f != obs.frame) continue;
+        p_in_cam = motion->cam_from_cluster[f - motion->frames.begin()] * point;
+      } else {
+        p_in_cam = cam_from_world[obs.frame - range.begin] * point;
+      }
+      if (p_in_cam.z() == 0.0) continue;
+      Eigen::Vector3d predicted;
+      camera.Project(p_in_cam, &predicted);
+      const Eigen::Vector3d e = obs.x - predicted;
+      const double m2 = e.dot(obs.cov.ldlt().solve(e));
+      sum += m2;
+      ++num;
+    }
+    chi2 += sum;
+    count += num;
+    if (per_landmark_mean && num > 0) (*per_landmark_mean)[i] = sum / num;
+  }
+  estimate->chi2 = chi2;
+  estimate->num_residuals = count;
+  return chi2;
+}
+
+}  // namespace cslam

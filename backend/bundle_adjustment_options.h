@@ -1,0 +1,50 @@
+#pragma once
+// Options of the multi-body bundle adjustment (backend/bundle_adjustment.h), apart from it so
+// that MotionEstimationOptions can hold them without a circular include.
+#include <string>
+
+#include "core/options_reader.h"
+
+namespace cslam {
+
+/// Robust kernel ρ applied to each squared whitened residual.
+enum class RobustKernel { kNone, kHuber, kDcs };
+/// How cluster and camera unknowns are split between solves (paper Table 5).
+enum class BaCoupling { kDecoupled, kSemiCoupled, kFullyCoupled };
+
+/// "none" / "huber" / "dcs"; ParseRobustKernel throws ConfigError naming `key` otherwise.
+std::string ToString(RobustKernel kernel);
+RobustKernel ParseRobustKernel(const std::string& text, const std::string& key);
+/// "decoupled" / "semi_coupled" / "fully_coupled".
+std::string ToString(BaCoupling coupling);
+BaCoupling ParseBaCoupling(const std::string& text, const std::string& key);
+
+/// Parameters of the bundle adjustment.
+struct BundleAdjustmentOptions {
+  /// Split of the unknowns [paper: decoupled is the default].
+  BaCoupling coupling = BaCoupling::kDecoupled;
+  /// Robust kernel [ours: Huber — convex, so it cannot lock onto a wrong basin when the
+  /// initialisation is poor, yet caps the pull of bad tracks; the paper's DCS is an option].
+  RobustKernel robust_kernel = RobustKernel::kHuber;
+  /// Kernel threshold on the squared whitened residual (χ² units, 3 dof). Huber: quadratic
+  /// below it; DCS: Φ. Default 7.815 = the 0.95 quantile of χ²(3).
+  double robust_threshold_chi2 = 7.815;
+  /// Levenberg–Marquardt iterations per solve [paper ablation: 20].
+  int max_iterations = 50;
+  /// Relative cost decrease below which a solve stops.
+  double function_tolerance = 1e-6;
+  /// Threads Ceres may use inside one solve (1 on the shared machine).
+  int num_threads = 1;
+  /// Observations a pose needs to be optimised; fewer → held at its initial value.
+  int min_observations_per_pose = 3;
+  /// Poses (frames × bodies) from which a solve uses SPARSE_SCHUR (SuiteSparse) instead of
+  /// DENSE_SCHUR.
+  int sparse_schur_min_poses = 60;
+
+  /// Throws ConfigError naming the field that breaks its rule.
+  void Check() const;
+  /// Reads every field by its snake_case name (enums as the strings above).
+  void Load(OptionsReader& reader);
+};
+
+}  // namespace cslam

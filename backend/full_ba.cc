@@ -1,0 +1,24 @@
+#include "backend/full_ba.h"
+
+#include "core/timer.h"
+
+namespace cslam {
+
+BackendResult RunFullBa(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
+                        const MotionEstimationOptions& options) {
+  const Timer timer;
+  BackendResult result;
+  result.method = "full-ba";
+  const std::vector<int> all_static(table.num_landmarks(), 0);
+  result.estimate = EstimateMotions(table, camera, range, all_static, options);
+  IterationDiagnostics diag;
+  diag.iteration = 1;
+  diag.num_clusters = 1;
+  diag.chi2 = result.estimate.chi2;
+  diag.estimation_ms = timer.ElapsedMs();
+  result.iterations.push_back(diag);
+  result.time_s = timer.ElapsedS();
+  return result;
+}
+
+}  // namespace cslam

@@ -1,0 +1,108 @@
+#include "backend/motion_estimation.h"
+
+#include <limits>
+#include <map>
+
+#include "backend/bundle_adjustment.h"
+#include "core/errors.h"
+#include "core/logging.h"
+
+namespace cslam {
+
+const ClusterMotion* MotionEstimate::FindCluster(int label) const {
+  for (const ClusterMotion& m : clusters)
+    if (m.cluster == label) return &m;
+  return nullptr;
+}
+
+void MotionEstimationOptions::Check() const {
+  // Prefix the section so the message names the full key path.
+  try {
+    shape_init.Check();
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("shape_init.") + e.what());
+  }
+  try {
+    bundle_adjustment.Check();
+  } catch (const ConfigError& e) {
+    throw ConfigError(std::string("bundle_adjustment.") + e.what());
+  }
+}
+
+void MotionEstimationOptions::Load(OptionsReader& reader) {
+  OptionsReader shape_reader = reader.Section("shape_init");
+  shape_init.Load(shape_reader);
+  shape_reader.Finish();
+  OptionsReader ba_reader = reader.Section("bundle_adjustment");
+  bundle_adjustment.Load(ba_reader);
+  ba_reader.Finish();
+  reader.Read("point_to_point_icp", &point_to_point_icp);
+  reader.Read("run_bundle_adjustment", &run_bundle_adjustment);
+}
+
+MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
+                               FrameRange range, const std::vector<int>& landmark_cluster,
+                               const MotionEstimationOptions& options) {
+  MotionEstimate est;
+  est.range = range;
+  const int n = table.num_landmarks();
+  est.landmark_cluster.assign(n, -1);
+  est.landmark_in_cluster.assign(
+      n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  est.world_from_cam.assign(std::max(range.size(), 0), Pose::Identity());
+  if (range.size() <= 0) return est;
+
+  std::map<int, std::vector<int>> members;
+  for (int i = 0; i < n && i < static_cast<int>(landmark_cluster.size()); ++i)
+    if (landmark_cluster[i] >= 0 && !table.ObservationsOf(i, range).empty())
+      members[landmark_cluster[i]].push_back(i);
+
+  for (const auto& [label, landmarks] : members) {
+    const ClusterShape shape = InitializeClusterShape(
+        table, camera, range, landmarks, options.shape_init, options.point_to_point_icp);
+    for (size_t k = 0; k < landmarks.size(); ++k) {
+      if (!shape.point_in_cluster[k].allFinite()) continue;
+      est.landmark_cluster[landmarks[k]] = label;
+      est.landmark_in_cluster[landmarks[k]] = shape.point_in_cluster[k];
+    }
+    if (shape.num_unregistered > 0)
+      GetLogger("backend")->debug("cluster {}: {} of {} frames not registered (< {} points)", label,
+                                  shape.num_unregistered, shape.frames.size(),
+                                  options.shape_init.min_points);
+    if (label == 0) {
+      // The static cluster's frame is the world: P^c_t = T^{0c}_t. Frames without static
+      // observations keep the previous frame's pose.
+      size_t k = 0;
+      Pose last = Pose::Identity();
+      for (int f = range.begin; f < range.end; ++f) {
+        if (k < shape.frames.size() && shape.frames[k] == f) last = shape.cluster_from_cam[k++];
+        est.world_from_cam[f - range.begin] = last;
+      }
+    } else {
+      ClusterMotion motion;
+      motion.cluster = label;
+      motion.frames = shape.frames;
+      for (const Pose& cluster_from_cam : shape.cluster_from_cam)
+        motion.cam_from_cluster.push_back(cluster_from_cam.inverse());
+      est.clusters.push_back(std::move(motion));
+    }
+  }
+  if (!members.count(0))
+    GetLogger("backend")->warn("no static landmarks in frames [{}, {}): camera held at identity",
+                               range.begin, range.end);
+  for (ClusterMotion& m : est.clusters) {
+    m.world_from_cluster.clear();
+    for (size_t k = 0; k < m.frames.size(); ++k)
+      m.world_from_cluster.push_back(est.world_from_cam[m.frames[k] - range.begin] *
+                                     m.cam_from_cluster[k]);
+  }
+
+  if (options.run_bundle_adjustment) {
+    AdjustBundle(table, camera, options.bundle_adjustment, &est);
+  } else {
+    EvaluateChi2(table, camera, &est);
+  }
+  return est;
+}
+
+}  // namespace cslam

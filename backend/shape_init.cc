@@ -1,0 +1,332 @@
+#include "backend/shape_init.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/errors.h"
+
+namespace cslam {
+
+void ShapeInitOptions::Check() const {
+  CheckOption(max_mixture_components >= 1, "max_mixture_components", "must be >= 1",
+              max_mixture_components);
+  CheckOption(max_gauss_newton_iterations >= 1, "max_gauss_newton_iterations", "must be >= 1",
+              max_gauss_newton_iterations);
+  CheckOption(gauss_newton_step_tolerance > 0, "gauss_newton_step_tolerance", "must be > 0",
+              gauss_newton_step_tolerance);
+  CheckOption(huber_threshold_sigma > 0, "huber_threshold_sigma", "must be > 0",
+              huber_threshold_sigma);
+  CheckOption(min_points >= 3, "min_points", "must be >= 3 (a rigid pose needs 3 points)",
+              min_points);
+}
+
+void ShapeInitOptions::Load(OptionsReader& reader) {
+  reader.Read("max_mixture_components", &max_mixture_components);
+  reader.Read("max_gauss_newton_iterations", &max_gauss_newton_iterations);
+  reader.Read("gauss_newton_step_tolerance", &gauss_newton_step_tolerance);
+  reader.Read("huber_threshold_sigma", &huber_threshold_sigma);
+  reader.Read("min_points", &min_points);
+  reader.Read("covariance_at_model", &covariance_at_model);
+}
+
+namespace {
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+/// One component of a landmark's mixture: an observation's 3-D covariance in the cluster
+/// frame, Σ_g = R J_f Σ_px J_fᵀ Rᵀ, with weight 1/|Σ_g| kept as its log. The pixel covariance
+/// and the pose are kept so that Σ_g can be re-evaluated at the current mean.
+struct Component {
+  Eigen::Matrix3d pixel_cov;
+  Pose cluster_from_cam;
+  Eigen::Matrix3d cov;
+  double log_weight;
+};
+
+struct LandmarkModel {
+  bool initialised = false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<Component> components;
+  int count = 0;  // observations integrated (point-to-point running mean)
+};
+
+/// A back-projected observation of the cluster's `local`-th landmark.
+struct FramePoint {
+  int local;
+  Eigen::Vector3d p_in_cam;
+  Eigen::Matrix3d cov_in_cam;  // J_f Σ J_fᵀ at the measurement
+  Eigen::Matrix3d pixel_cov;
+};
+
+double LogDet(const Eigen::Matrix3d& m) { return std::log(std::max(m.determinant(), 1e-300)); }
+
+/// Σ (cluster frame) of an observation through `cluster_from_cam`, evaluated at the keypoint
+/// the model point `mean` would produce; `fallback` when it does not project.
+Eigen::Matrix3d CovarianceAtModel(const StereoCamera& camera, const Eigen::Matrix3d& pixel_cov,
+                                  const Eigen::Vector3d& mean, const Pose& cluster_from_cam,
+                                  const Eigen::Matrix3d& fallback) {
+  const Eigen::Vector3d p = cluster_from_cam.inverse() * mean;
+  Eigen::Vector3d x;
+  const Eigen::Matrix3d R = cluster_from_cam.linear();
+  if (!camera.Project(p, &x) || !(x(0) - x(2) > 0)) return fallback;
+  return R * camera.PointCovariance(x, pixel_cov) * R.transpose();
+}
+
+/// Re-evaluates every component at the model's current mean (covariance_at_model).
+void Refresh(const StereoCamera& camera, LandmarkModel* model) {
+  for (Component& c : model->components) {
+    c.cov = CovarianceAtModel(camera, c.pixel_cov, model->mean, c.cluster_from_cam, c.cov);
+    c.log_weight = -LogDet(c.cov);
+  }
+}
+
+/// Eq. 4 for one observation: `p` and `fresh.cov` already in the cluster frame.
+void IntegrateNoiseAware(const Eigen::Vector3d& p, const Component& fresh, int max_components,
+                         LandmarkModel* model) {
+  if (!model->initialised) {
+    model->initialised = true;
+    model->mean = p;
+    model->components = {fresh};
+    return;
+  }
+  // Normalise the 1/|Σ| weights by the largest so that tiny indoor determinants cannot
+  // overflow; the solution is invariant to a common scale.
+  double max_log = fresh.log_weight;
+  for (const Component& c : model->components) max_log = std::max(max_log, c.log_weight);
+  const Eigen::Matrix3d a_new = fresh.cov.inverse() * std::exp(fresh.log_weight - max_log);
+  Eigen::Matrix3d a_old = Eigen::Matrix3d::Zero();
+  for (const Component& c : model->components)
+    a_old += c.cov.inverse() * std::exp(c.log_weight - max_log);
+  model->mean = (a_new + a_old).ldlt().solve(a_new * p + a_old * model->mean);
+  model->components.push_back(fresh);
+}
+
+void Prune(int max_components, LandmarkModel* model) {
+  while (static_cast<int>(model->components.size()) > max_components) {
+    auto lowest = std::min_element(
+        model->components.begin(), model->components.end(),
+        [](const Component& a, const Component& b) { return a.log_weight < b.log_weight; });
+    model->components.erase(lowest);
+  }
+}
+
+/// Eq. 3's objective at `cluster_from_cam`, with the Huber ρ on each Mahalanobis distance.
+double RegistrationCost(const std::vector<RegistrationPoint>& points, const Pose& cluster_from_cam,
+                        double huber_k) {
+  const Eigen::Matrix3d R = cluster_from_cam.linear();
+  double total = 0.0;
+  for (const RegistrationPoint& pt : points) {
+    const Eigen::Vector3d r = cluster_from_cam * pt.p_in_cam - pt.model_mean;
+    const Eigen::Matrix3d cov_rotated = R * pt.cov_in_cam * R.transpose();
+    double best = std::numeric_limits<double>::infinity();
+    for (const Eigen::Matrix3d& cov_g : pt.model_covariances) {
+      const Eigen::Matrix3d s = cov_rotated + cov_g;
+      const double m2 = r.dot(s.ldlt().solve(r));
+      const double m = std::sqrt(std::max(m2, 0.0));
+      const double rho = m <= huber_k ? m2 : 2.0 * huber_k * m - huber_k * huber_k;
+      best = std::min(best, 0.5 * rho + 0.5 * LogDet(s) + LogDet(cov_g));
+    }
+    if (std::isfinite(best)) total += best;
+  }
+  return total;
+}
+
+}  // namespace
+
+Pose RegisterNoiseAware(const std::vector<RegistrationPoint>& points, const Pose& initial,
+                        const ShapeInitOptions& options) {
+  Pose cluster_from_cam = initial;
+  const double k = options.huber_threshold_sigma;
+  for (int it = 0; it < options.max_gauss_newton_iterations; ++it) {
+    const Eigen::Matrix3d R = cluster_from_cam.linear();
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    for (const RegistrationPoint& pt : points) {
+      const Eigen::Vector3d q = cluster_from_cam * pt.p_in_cam;
+      const Eigen::Vector3d r = q - pt.model_mean;
+      const Eigen::Matrix3d cov_rotated = R * pt.cov_in_cam * R.transpose();
+      // Eq. 3's min over components, with Σ_ig held fixed within this iteration.
+      double best_cost = std::numeric_limits<double>::infinity();
+      Eigen::Matrix3d best_info = Eigen::Matrix3d::Zero();
+      double best_m2 = 0.0;
+      for (const Eigen::Matrix3d& cov_g : pt.model_covariances) {
+        const Eigen::Matrix3d s = cov_rotated + cov_g;
+        const Eigen::LLT<Eigen::Matrix3d> llt(s);
+        if (llt.info() != Eigen::Success) continue;
+        const Eigen::Matrix3d info = llt.solve(Eigen::Matrix3d::Identity());
+        const double m2 = r.dot(info * r);
+        const double cost = 0.5 * m2 + 0.5 * LogDet(s) + LogDet(cov_g);
+        if (cost < best_cost) {
+          best_cost = cost;
+          best_info = info;
+          best_m2 = m2;
+        }
+      }
+      if (!std::isfinite(best_cost)) continue;
+      const double m = std::sqrt(best_m2);
+      const double w = m <= k ? 1.0 : k / m;
+      Eigen::Matrix<double, 3, 6> J;
+      J.leftCols<3>() = -Skew(q);
+      J.rightCols<3>().setIdentity();
+      H += w * J.transpose() * best_info * J;
+      g += w * J.transpose() * best_info * r;
+    }
+    const Eigen::Matrix<double, 6, 1> delta = -H.ldlt().solve(g);
+    if (!delta.allFinite()) break;
+    // Left perturbation: q' = Exp(δ) q, so R' = Exp(ω) R and t' = Exp(ω) t + v.
+    const Eigen::Matrix3d dR = ExpSO3(delta.head<3>());
+    Pose updated = Pose::Identity();
+    updated.linear() = dR * cluster_from_cam.linear();
+    updated.translation() = dR * cluster_from_cam.translation() + delta.tail<3>();
+    cluster_from_cam = updated;
+    if (delta.cwiseAbs().maxCoeff() < options.gauss_newton_step_tolerance) break;
+  }
+  return cluster_from_cam;
+}
+
+ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCamera& camera,
+                                    FrameRange range, std::span<const int> landmarks,
+                                    const ShapeInitOptions& options, bool point_to_point_icp) {
+  ClusterShape shape;
+  shape.landmarks.assign(landmarks.begin(), landmarks.end());
+  const int n = static_cast<int>(shape.landmarks.size());
+  const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+  shape.point_in_cluster.assign(n, nan);
+  if (range.size() <= 0 || n == 0) return shape;
+
+  // Per frame of the range: the cluster's observations that back-project (positive disparity).
+  std::vector<std::vector<FramePoint>> by_frame(range.size());
+  std::vector<bool> seen(range.size(), false);
+  for (int local = 0; local < n; ++local) {
+    for (const StereoObservation& obs : table.ObservationsOf(shape.landmarks[local], range)) {
+      seen[obs.frame - range.begin] = true;
+      Eigen::Vector3d p;
+      if (!camera.BackProject<double>(obs.x, &p)) continue;
+      by_frame[obs.frame - range.begin].push_back(
+          {local, p, camera.PointCovariance(obs.x, obs.cov), obs.cov});
+    }
+  }
+  for (int f = 0; f < range.size(); ++f) {
+    if (!seen[f]) continue;
+    shape.frames.push_back(range.begin + f);
+    if (shape.first_sight < 0 && static_cast<int>(by_frame[f].size()) >= options.min_points)
+      shape.first_sight = range.begin + f;
+  }
+
+  std::vector<LandmarkModel> models(n);
+  // With covariance_at_model, the new observation's Σ and every stored component's are
+  // evaluated at the same point (the current mean): evaluated at each measurement, Σ is
+  // correlated with the noise, and since 1/|Σ| grows like Z⁻⁸ the weights would favour
+  // points measured too close; evaluated at a mean that moves, an estimate that drifted far
+  // would discount the observations correcting it. Both bias the shape.
+  auto covariance = [&](const FramePoint& fp, const Pose& cluster_from_cam) -> Eigen::Matrix3d {
+    const LandmarkModel& model = models[fp.local];
+    const Eigen::Matrix3d R = cluster_from_cam.linear();
+    const Eigen::Matrix3d measured = R * fp.cov_in_cam * R.transpose();
+    if (!options.covariance_at_model || !model.initialised) return measured;
+    return CovarianceAtModel(camera, fp.pixel_cov, model.mean, cluster_from_cam, measured);
+  };
+  auto integrate = [&](const FramePoint& fp, const Pose& cluster_from_cam) {
+    const Eigen::Vector3d p = cluster_from_cam * fp.p_in_cam;
+    LandmarkModel& model = models[fp.local];
+    if (point_to_point_icp) {
+      model.mean = model.initialised ? (model.mean * model.count + p) / (model.count + 1) : p;
+      model.initialised = true;
+      ++model.count;
+      return;
+    }
+    const Eigen::Matrix3d cov = covariance(fp, cluster_from_cam);
+    IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
+                        options.max_mixture_components, &model);
+    if (options.covariance_at_model) Refresh(camera, &model);
+    Prune(options.max_mixture_components, &model);
+  };
+
+  Pose current = Pose::Identity();
+  for (int frame : shape.frames) {
+    const std::vector<FramePoint>& points = by_frame[frame - range.begin];
+    bool registered = false;
+    if (shape.first_sight >= 0 && frame == shape.first_sight) {
+      current = Pose::Identity();
+      registered = true;
+    } else if (shape.first_sight >= 0 && frame > shape.first_sight) {
+      std::vector<const FramePoint*> matched;
+      for (const FramePoint& fp : points)
+        if (models[fp.local].initialised) matched.push_back(&fp);
+      if (static_cast<int>(matched.size()) >= options.min_points) {
+        std::vector<Eigen::Vector3d> src, dst;
+        for (const FramePoint* fp : matched) {
+          src.push_back(fp->p_in_cam);
+          dst.push_back(models[fp->local].mean);
+        }
+        const Pose svd = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
+        Pose estimate = svd;
+        if (!point_to_point_icp) {
+          std::vector<RegistrationPoint> corr;
+          corr.reserve(matched.size());
+          for (const FramePoint* fp : matched) {
+            // Registration needs Σ in the camera frame: rotate the cluster-frame one back.
+            const Eigen::Matrix3d R = current.linear();
+            RegistrationPoint rp{fp->p_in_cam,
+                                 R.transpose() * covariance(*fp, current) * R,
+                                 models[fp->local].mean,
+                                 {}};
+            for (const Component& c : models[fp->local].components)
+              rp.model_covariances.push_back(c.cov);
+            corr.push_back(std::move(rp));
+          }
+          // Start from the better of the previous pose and the SVD solution: from the previous
+          // pose alone, Gauss–Newton lost a fast-spinning small body (depth weakly
+          // constrained) in a wrong basin; a constant-velocity start made outdoor runs worse.
+          const std::vector<Pose> starts = {current, svd};
+          Pose start = current;
+          double best = std::numeric_limits<double>::infinity();
+          for (const Pose& candidate : starts) {
+            const double c = RegistrationCost(corr, candidate, options.huber_threshold_sigma);
+            if (c < best) {
+              best = c;
+              start = candidate;
+            }
+          }
+          estimate = RegisterNoiseAware(corr, start, options);
+          if (!(RegistrationCost(corr, estimate, options.huber_threshold_sigma) <= best))
+            estimate = start;
+        }
+        if (estimate.matrix().allFinite()) {
+          current = estimate;
+          registered = true;
+        }
+      }
+    }
+    shape.cluster_from_cam.push_back(current);
+    shape.registered.push_back(registered);
+    if (registered)
+      for (const FramePoint& fp : points) integrate(fp, current);
+    else
+      ++shape.num_unregistered;
+  }
+
+  // Frames before first sight carry the first sight's pose (the identity) backwards.
+  // Landmarks seen only in unregistered frames are placed from their first observation.
+  for (size_t k = 0; k < shape.frames.size(); ++k) {
+    const int frame = shape.frames[k];
+    if (shape.first_sight >= 0 && frame < shape.first_sight)
+      shape.cluster_from_cam[k] = Pose::Identity();
+    for (const FramePoint& fp : by_frame[frame - range.begin]) {
+      if (models[fp.local].initialised) continue;
+      models[fp.local].initialised = true;
+      models[fp.local].mean = shape.cluster_from_cam[k] * fp.p_in_cam;
+    }
+  }
+  for (int local = 0; local < n; ++local)
+    if (models[local].initialised) shape.point_in_cluster[local] = models[local].mean;
+  return shape;
+}
+
+}  // namespace cslam

@@ -1,0 +1,85 @@
+#pragma once
+// Noise-aware cluster shape initialisation (clusterslam_spec.md §5, paper Eq. 3 and 4): walk
+// the frames in which a cluster is visible, register each frame to the cluster's model with a
+// covariance-weighted Gauss–Newton ICP (known correspondences), then integrate the frame's
+// back-projected points into per-landmark Gaussian mixtures.
+//
+// Frames: the cluster frame q is the left camera frame at the cluster's first sight (the first
+// frame of the range where at least `min_points` of its landmarks are observed with positive
+// disparity). cluster_from_cam = T^{qc}_t maps points of camera frame t into the cluster frame.
+//
+// Frames where fewer than `min_points` modelled landmarks are observed cannot be registered:
+// they take the pose of the previous registered frame (frames before first sight take the
+// first sight's pose, the identity) and integrate nothing; they are flagged in `registered`.
+// A landmark observed only in such frames is placed from its first observation with that
+// carried pose, so that every landmark of the cluster has a position for bundle adjustment.
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+#include "core/options_reader.h"
+#include "core/rigid.h"
+#include "core/stereo_camera.h"
+#include "core/tracklet_table.h"
+
+namespace cslam {
+
+/// Parameters of the shape initialisation.
+struct ShapeInitOptions {
+  /// Gaussian-mixture components kept per landmark [paper: 3].
+  int max_mixture_components = 3;
+  /// Gauss–Newton iterations of one frame-to-model registration.
+  int max_gauss_newton_iterations = 15;
+  /// Stop Gauss–Newton when the update is below this (rad and m, max-norm).
+  double gauss_newton_step_tolerance = 1e-9;
+  /// Huber threshold on the Mahalanobis distance of a registration residual, in sigmas
+  /// [ours: robust weight against bad tracks; 3 ≈ sqrt of the 0.99 χ²(3) quantile / 1.1].
+  double huber_threshold_sigma = 3.0;
+  /// Registered points needed to estimate a frame's pose (3 non-collinear fix a rigid pose).
+  int min_points = 3;
+  /// [ours] Evaluate an observation's 3-D covariance J_f Σ J_fᵀ at the model's predicted
+  /// keypoint rather than at the noisy measurement (once the landmark is modelled). At the
+  /// measurement the covariance is correlated with the noise, and the 1/|Σ| weights then
+  /// prefer points measured too close, biasing shapes and making trajectories drift.
+  bool covariance_at_model = true;
+
+  /// Throws ConfigError naming the field that breaks its rule.
+  void Check() const;
+  /// Reads every field by its snake_case name.
+  void Load(OptionsReader& reader);
+};
+
+/// Shape and trajectory of one cluster in its own frame.
+struct ClusterShape {
+  std::vector<int> landmarks;                     ///< ascending landmark ids (input order kept)
+  std::vector<Eigen::Vector3d> point_in_cluster;  ///< X̂^{q,i}, parallel to landmarks
+  std::vector<int> frames;                        ///< ascending frames where any landmark is seen
+  std::vector<Pose> cluster_from_cam;             ///< T^{qc}_t, parallel to frames
+  std::vector<bool> registered;                   ///< false: pose carried from a neighbour frame
+  int first_sight = -1;                           ///< frame of the cluster frame; -1 = never
+  int num_unregistered = 0;                       ///< frames in `frames` not registered
+};
+
+/// Initialises the shape of the cluster made of `landmarks` over `range`. With
+/// `point_to_point_icp` the registration is the SVD (Umeyama) solution and the integration a
+/// running mean (the Table 4 ablation); otherwise Eq. 3 and 4.
+ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCamera& camera,
+                                    FrameRange range, std::span<const int> landmarks,
+                                    const ShapeInitOptions& options,
+                                    bool point_to_point_icp = false);
+
+/// One correspondence of a frame-to-model registration: the back-projected point in the
+/// camera frame with its covariance, and the model's mixture for that landmark.
+struct RegistrationPoint {
+  Eigen::Vector3d p_in_cam;
+  Eigen::Matrix3d cov_in_cam;
+  Eigen::Vector3d model_mean;                      ///< X̂_{t-1} in the cluster frame
+  std::vector<Eigen::Matrix3d> model_covariances;  ///< Σ_g, cluster frame
+};
+
+/// Eq. 3: the cluster_from_cam minimising the min-over-components negative log-likelihood,
+/// by Gauss–Newton on SE(3) from `initial` with Huber weights. Exposed for tests.
+Pose RegisterNoiseAware(const std::vector<RegistrationPoint>& points, const Pose& initial,
+                        const ShapeInitOptions& options);
+
+}  // namespace cslam
