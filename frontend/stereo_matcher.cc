@@ -232,18 +232,19 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     res.curvature = static_cast<float>(-(cm - 2 * c0 + cp));
     res.u_right = static_cast<float>(u0 - radius + s_best + ParabolaPeak(cm, c0, cp));
 
-    // Row error: NCC one row above and below the integer peak; the parabola vertex is the
-    // vertical offset.
-    if (!SampleStrip(right_grey, static_cast<float>(u0 - radius + s_best - half), p.y - half - 1,
-                     o.patch_px, o.patch_px + 2, &m.column))
+    // Row error: NCC at rows −2..+2 around the refined match; the parabola vertex around the
+    // best of the inner three is the vertical offset (a best row at ±2 means ≥ 1.5 px off).
+    if (!SampleStrip(right_grey, res.u_right - half, p.y - half - 2,
+                     o.patch_px, o.patch_px + 4, &m.column))
       continue;
-    double vert[3];
-    for (int dv = 0; dv < 3; ++dv) vert[dv] = NccAt(m.templ, m.column, o.patch_px, 0, dv);
-    if (vert[1] >= std::max(vert[0], vert[2]))
-      res.row_error_px = static_cast<float>(ParabolaPeak(vert[0], vert[1], vert[2]));
-    else  // the best row is not this one: at least half a pixel off, call it a full pixel or more
+    double vert[5];
+    for (int dv = 0; dv < 5; ++dv) vert[dv] = NccAt(m.templ, m.column, o.patch_px, 0, dv);
+    const int v_best = static_cast<int>(std::max_element(vert, vert + 5) - vert);
+    if (v_best == 0 || v_best == 4)
+      res.row_error_px = v_best == 0 ? -2.f : 2.f;
+    else
       res.row_error_px = static_cast<float>(
-          (vert[0] > vert[2] ? -1 : 1) * std::max(1.0, std::abs(ParabolaPeak(vert[0], vert[1], vert[2]))));
+          v_best - 2 + ParabolaPeak(vert[v_best - 1], vert[v_best], vert[v_best + 1]));
     if (std::abs(res.row_error_px) > o.max_row_error_px) {
       res.status = StereoReject::kRowError;
       continue;
