@@ -111,10 +111,8 @@ TEST(StereoFrontend, KeepsTracksOnAPatchMovingAgainstTheBackground) {
   }
   // The object covers ~(168×88)/(600×200) of the usable image: ~70 of 600 targets. Most of
   // them must survive: nothing rejects a track for moving unlike the camera.
-  int created_on_object = 0;
   EXPECT_GT(on_background, 200);
   EXPECT_GT(on_object, 40);
-  (void)created_on_object;
   EXPECT_EQ(s1.new_landmarks, s1.tracked);
   EXPECT_EQ(static_cast<int>(table.num_observations()), 2 * s1.tracked);
 }
