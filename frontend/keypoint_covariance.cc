@@ -18,6 +18,7 @@ void KeypointCovarianceOptions::Check() const {
   CheckOption(window_px >= 3 && window_px % 2 == 1, "window_px", "must be odd and >= 3 px",
               window_px);
   CheckOption(max_sigma_px > 0, "max_sigma_px", "must be > 0 px", max_sigma_px);
+  CheckOption(match_weight >= 0, "match_weight", "must be >= 0", match_weight);
 }
 
 void KeypointCovarianceOptions::Load(OptionsReader& reader) {
@@ -28,6 +29,7 @@ void KeypointCovarianceOptions::Load(OptionsReader& reader) {
   reader.Read("window_px", &window_px);
   reader.Read("max_sigma_px", &max_sigma_px);
   reader.Read("use_fb_error", &use_fb_error);
+  reader.Read("match_weight", &match_weight);
 }
 
 Eigen::Matrix3d KeypointCovariance(const cv::Mat& left_grey, const KeypointCovarianceInput& input,
@@ -75,6 +77,8 @@ Eigen::Matrix3d KeypointCovariance(const cv::Mat& left_grey, const KeypointCovar
 
   double disp2 = std::pow(o.stereo_sigma_px * level_factor, 2);
   if (noise2 > 0) disp2 += gxx > 2 * noise2 / cap2 ? 2 * noise2 / gxx : cap2;
+  if (input.stereo_curvature > 0 && input.stereo_ncc < 1)
+    disp2 += std::min(cap2, o.match_weight * (1 - input.stereo_ncc) / input.stereo_curvature);
 
   Eigen::Matrix3d base = Eigen::Matrix3d::Zero();
   base.topLeftCorner<2, 2>() = left;

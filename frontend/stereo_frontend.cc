@@ -163,9 +163,10 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
       t = tracks[i];
     }
     const Eigen::Vector3d x(t.pt.x, t.pt.y, matches[i].u_right);
-    const Eigen::Matrix3d cov = KeypointCovariance(
-        left_grey, {t.pt, t.level, is_new ? 0.0 : static_cast<double>(t.fb_error_px)},
-        options_.covariance);
+    const KeypointCovarianceInput cov_input{t.pt, t.level,
+                                            is_new ? 0.0 : static_cast<double>(t.fb_error_px),
+                                            matches[i].ncc, matches[i].curvature};
+    const Eigen::Matrix3d cov = KeypointCovariance(left_grey, cov_input, options_.covariance);
     if (is_new) {
       ++summary.created;
       if (options_.confirm_new_tracks) {

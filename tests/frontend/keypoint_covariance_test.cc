@@ -29,7 +29,9 @@ TEST(KeypointCovariance, IsSymmetricPositiveDefiniteOnTextureFlatAndEdgeAndBorde
   for (const cv::Point2f p : {cv::Point2f(200, 120), cv::Point2f(40, 40), cv::Point2f(140, 40),
                               cv::Point2f(0, 0), cv::Point2f(319, 159)})
     for (int level : {0, 2})
-      for (double fb : {0.0, 0.4}) ExpectSymmetricPositiveDefinite(KeypointCovariance(image, {p, level, fb}, o));
+      for (double fb : {0.0, 0.4})
+        for (double ncc : {1.0, 0.8, -0.5})
+          ExpectSymmetricPositiveDefinite(KeypointCovariance(image, {p, level, fb, ncc, 0.2}, o));
 }
 
 TEST(KeypointCovariance, RightColumnInheritsTheLeftErrorAndDisparityHasItsOwn) {
@@ -56,7 +58,7 @@ TEST(KeypointCovariance, IsLargerAlongAnEdgeThanAcrossIt) {
   EXPECT_LE(cov(1, 1), std::pow(o.detection_sigma_px, 2) + std::pow(o.max_sigma_px, 2) + 1e-9);
 }
 
-TEST(KeypointCovariance, GrowsWithPyramidLevelAndTrackingResidual) {
+TEST(KeypointCovariance, GrowsWithPyramidLevelTrackingResidualAndWeakStereoPeak) {
   const cv::Mat image = testing::RandomTexture(kSize, 23);
   const KeypointCovarianceOptions o;
   const cv::Point2f p(150, 80);
@@ -67,6 +69,13 @@ TEST(KeypointCovariance, GrowsWithPyramidLevelAndTrackingResidual) {
     EXPECT_GT(coarse(k, k), base(k, k));
     EXPECT_GT(shaky(k, k), base(k, k));
   }
+  // A weaker, blunter stereo peak only widens the disparity: uL and vL stay as they are.
+  const Eigen::Matrix3d sharp = KeypointCovariance(image, {p, 0, 0, 0.95, 0.4}, o);
+  const Eigen::Matrix3d blunt = KeypointCovariance(image, {p, 0, 0, 0.80, 0.1}, o);
+  EXPECT_TRUE(testing::MatrixNear(sharp.topLeftCorner<2, 2>(), blunt.topLeftCorner<2, 2>(), 1e-12));
+  const auto disparity_var = [](const Eigen::Matrix3d& c) { return c(0, 0) + c(2, 2) - 2 * c(0, 2); };
+  EXPECT_NEAR(disparity_var(blunt) - disparity_var(sharp),
+              o.match_weight * (0.2 / 0.1 - 0.05 / 0.4), 1e-9);
 }
 
 }  // namespace

@@ -96,6 +96,15 @@ int main(int argc, char** argv) {
   }
   printf("landmarks %d obs %zu\n", table.num_landmarks(), table.num_observations());
   std::vector<int> len; for (int l = 0; l < table.num_landmarks(); ++l) len.push_back(table.ObservationsOf(l).size());
+  {
+    std::vector<double> su, sv, sd, cuv;
+    for (int l = 0; l < table.num_landmarks(); ++l) for (auto& o : table.ObservationsOf(l)) {
+      su.push_back(std::sqrt(o.cov(0,0))); sv.push_back(std::sqrt(o.cov(1,1)));
+      sd.push_back(std::sqrt(o.cov(0,0) + o.cov(2,2) - 2 * o.cov(0,2)));
+    }
+    auto med = [](std::vector<double> v, double q) { std::sort(v.begin(), v.end()); return v[size_t(q * (v.size() - 1))]; };
+    printf("sigma uL p10 %.3f p50 %.3f p90 %.3f | vL p50 %.3f p90 %.3f | disparity p10 %.3f p50 %.3f p90 %.3f\n", med(su,.1), med(su,.5), med(su,.9), med(sv,.5), med(sv,.9), med(sd,.1), med(sd,.5), med(sd,.9));
+  }
   std::sort(len.begin(), len.end()); double mean = 0; for (int v : len) mean += v; 
   int ge10 = 0; for (int v : len) ge10 += v >= 10;
   printf("track length mean %.2f median %d p90 %d, >=10: %d\n", mean / len.size(), len[len.size()/2], len[len.size()*9/10], ge10);
