@@ -28,6 +28,7 @@ void FrontendOptions::Check() const {
 void FrontendOptions::Load(OptionsReader& reader) {
   reader.Read("confirm_new_tracks", &confirm_new_tracks);
   reader.Read("predict_flow", &predict_flow);
+  reader.Read("use_disparity_prior", &use_disparity_prior);
   auto load = [&](const char* key, auto& options) {
     OptionsReader section = reader.Section(key);
     options.Load(section);
@@ -48,6 +49,7 @@ struct Track {
   cv::Point2f flow{0, 0};
   int level = 0;
   float fb_error_px = 0;
+  float disparity = 0;  ///< of the last stereo match, px
   int pending_frame = -1;
   Eigen::Vector3d pending_x;
   Eigen::Matrix3d pending_cov;
@@ -139,7 +141,10 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
 
   // 3. Stereo match of every point, tracked and new.
   timer.Reset();
-  const std::vector<StereoMatch> matches = s.matcher.Match(left_grey, right_grey, points);
+  std::vector<float> priors(points.size(), 0.f);
+  if (options_.use_disparity_prior)
+    for (size_t i = 0; i < tracks.size(); ++i) priors[i] = tracks[i].disparity;
+  const std::vector<StereoMatch> matches = s.matcher.Match(left_grey, right_grey, points, priors);
   summary.stereo_ms = timer.ElapsedMs();
 
   // 4. Covariances and table writes. A tracked point without a stereo match ends its track:
@@ -152,7 +157,10 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
     const bool is_new = i >= num_tracked;
     if (!matches[i].ok()) {
       ++summary.stereo_rejected;
-      if (!is_new) ++summary.lost;
+      if (!is_new) {
+        ++summary.lost;
+        ++summary.lost_in_stereo;
+      }
       continue;
     }
     Track t;
@@ -163,6 +171,7 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
       t = tracks[i];
     }
     const Eigen::Vector3d x(t.pt.x, t.pt.y, matches[i].u_right);
+    t.disparity = t.pt.x - matches[i].u_right;
     const KeypointCovarianceInput cov_input{t.pt, t.level,
                                             is_new ? 0.0 : static_cast<double>(t.fb_error_px),
                                             matches[i].ncc, matches[i].curvature};

@@ -31,6 +31,9 @@ struct FrontendOptions {
   /// Seed KLT with the track's last image motion (a per-track constant-velocity guess; it
   /// never rejects anything).
   bool predict_flow = true;
+  /// Search a tracked point's stereo match near its last disparity (StereoMatcherOptions::
+  /// prior_margin_*) instead of over the whole range.
+  bool use_disparity_prior = true;
 
   void Check() const;
   /// Reads the fields and the sections detector, tracker, stereo, covariance (each finished).
@@ -44,6 +47,7 @@ struct FrameSummary {
   int created = 0;          ///< new tracks started this frame (detected and stereo-matched)
   int lost = 0;             ///< tracks that ended this frame (tracking or stereo failure)
   int stereo_rejected = 0;  ///< of the tracked and new points, those without a stereo match
+  int lost_in_stereo = 0;   ///< of `lost`, tracked points ended by a failed stereo match
   int detected = 0;         ///< new corners detected before the stereo match
   int new_landmarks = 0;    ///< landmark ids created in the table this frame
   int observations = 0;     ///< observations appended to the table this frame

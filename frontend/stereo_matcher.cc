@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/errors.h"
 #include "core/options_reader.h"
 #include "frontend/image_patch.h"
 
@@ -28,6 +29,9 @@ void StereoMatcherOptions::Check() const {
   CheckOption(max_row_error_px > 0, "max_row_error_px", "must be > 0 px", max_row_error_px);
   CheckOption(max_hamming >= 0 && max_hamming <= 256, "max_hamming", "must be in [0, 256] bits",
               max_hamming);
+  CheckOption(prior_margin_px >= 2, "prior_margin_px", "must be >= 2 px (the coarse step)",
+              prior_margin_px);
+  CheckOption(prior_margin_ratio >= 0, "prior_margin_ratio", "must be >= 0", prior_margin_ratio);
 }
 
 void StereoMatcherOptions::Load(OptionsReader& reader) {
@@ -40,6 +44,8 @@ void StereoMatcherOptions::Load(OptionsReader& reader) {
   reader.Read("min_ncc", &min_ncc);
   reader.Read("max_row_error_px", &max_row_error_px);
   reader.Read("max_hamming", &max_hamming);
+  reader.Read("prior_margin_px", &prior_margin_px);
+  reader.Read("prior_margin_ratio", &prior_margin_ratio);
 }
 
 namespace {
@@ -161,7 +167,10 @@ StereoMatcher::StereoMatcher(StereoMatcher&&) noexcept = default;
 StereoMatcher& StereoMatcher::operator=(StereoMatcher&&) noexcept = default;
 
 std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv::Mat& right_grey,
-                                              std::span<const cv::Point2f> left_points) {
+                                              std::span<const cv::Point2f> left_points,
+                                              std::span<const float> prior_disparity) {
+  CSLAM_CHECK(prior_disparity.empty() || prior_disparity.size() == left_points.size(),
+              "one prior disparity per point, or none");
   Impl& m = *impl_;
   const StereoMatcherOptions& o = options_;
   std::vector<StereoMatch> out(left_points.size());
@@ -184,8 +193,16 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     const int cl = static_cast<int>(std::lround(p.x / 2)), row = static_cast<int>(std::lround(p.y / 2));
     if (!(row - ch >= 0 && row + ch < m.left1.rows && cl - ch >= 0 && cl + ch < m.left1.cols))
       continue;
-    const int c_lo = std::max(ch, cl - d1_max);
-    const int c_hi = std::min(m.right1.cols - 1 - ch, cl - d1_min);
+    // A tracked point's last disparity narrows the search to where it can be a frame later.
+    int lo = d1_min, hi = d1_max;
+    if (!prior_disparity.empty() && prior_disparity[i] > 0) {
+      const double d = prior_disparity[i];
+      const double margin = o.prior_margin_px + o.prior_margin_ratio * d;
+      lo = std::max(d1_min, static_cast<int>(std::floor((d - margin) / 2)));
+      hi = std::min(d1_max, static_cast<int>(std::ceil((d + margin) / 2)));
+    }
+    const int c_lo = std::max(ch, cl - hi);
+    const int c_hi = std::min(m.right1.cols - 1 - ch, cl - lo);
     if (c_hi < c_lo) {
       res.status = StereoReject::kNoCandidate;
       continue;

@@ -80,6 +80,30 @@ TEST(StereoMatcher, RejectsDisparitiesOutsideTheRange) {
   }
 }
 
+TEST(StereoMatcher, SearchesOnlyNearAPriorDisparity) {
+  const Pair pair = SlantedPlane(5);
+  const std::vector<cv::Point2f> pts = testing::TestCorners(pair.left);
+  StereoMatcher matcher{StereoMatcherOptions{}};
+  std::vector<float> near_truth, far_from_truth;
+  for (const cv::Point2f& p : pts) {
+    near_truth.push_back(static_cast<float>(TrueDisparity(p.y) + 3));
+    far_from_truth.push_back(static_cast<float>(TrueDisparity(p.y) + 40));  // window 37..77 px away
+  }
+  const auto with_good_prior = matcher.Match(pair.left, pair.right, pts, near_truth);
+  const auto with_bad_prior = matcher.Match(pair.left, pair.right, pts, far_from_truth);
+  int good = 0, bad_right = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (with_good_prior[i].ok()) {
+      ++good;
+      EXPECT_NEAR(pts[i].x - with_good_prior[i].u_right, TrueDisparity(pts[i].y), 0.3);
+    }
+    bad_right += with_bad_prior[i].ok() &&
+                 std::abs(pts[i].x - with_bad_prior[i].u_right - TrueDisparity(pts[i].y)) < 1;
+  }
+  EXPECT_GE(good, 0.9 * pts.size());
+  EXPECT_EQ(bad_right, 0) << "the true disparity lies outside the prior's window";
+}
+
 TEST(StereoMatcher, RowCheckMeasuresAndRejectsAVerticalOffset) {
   // The right image is shifted down: the texture still matches, but not on the same row.
   StereoMatcher matcher{StereoMatcherOptions{}};
