@@ -1,9 +1,8 @@
 #include "frontend/grid_detector.h"
 
-#include <opencv2/features2d.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <opencv2/features2d.hpp>
 
 #include "core/options_reader.h"
 
@@ -34,10 +33,10 @@ GridDetector::GridDetector(const GridDetectorOptions& options) : options_(option
 
 int GridDetector::CellOf(const cv::Point2f& pt, const cv::Size& size) const {
   if (!(pt.x >= 0 && pt.y >= 0 && pt.x < size.width && pt.y < size.height)) return -1;
-  const int c = std::min(options_.grid_cols - 1,
-                         static_cast<int>(pt.x * options_.grid_cols / size.width));
-  const int r = std::min(options_.grid_rows - 1,
-                         static_cast<int>(pt.y * options_.grid_rows / size.height));
+  const int c =
+      std::min(options_.grid_cols - 1, static_cast<int>(pt.x * options_.grid_cols / size.width));
+  const int r =
+      std::min(options_.grid_rows - 1, static_cast<int>(pt.y * options_.grid_rows / size.height));
   return r * options_.grid_cols + c;
 }
 

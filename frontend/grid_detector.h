@@ -3,7 +3,6 @@
 // only the cells that the live tracks no longer fill (re-detection in emptied cells).
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
-
 #include <span>
 #include <vector>
 
@@ -18,7 +17,7 @@ struct GridDetectorOptions {
   int grid_rows = 8;           ///< grid cells down the image, > 0
   int fast_threshold = 12;     ///< FAST intensity threshold, grey levels, in [1, 255]
   double min_distance_px = 8;  ///< minimum spacing between keypoints (new and live), px, > 0
-  int border_px = 20;          ///< keypoints keep this far from the image edge (ORB patch), px, >= 16
+  int border_px = 20;  ///< keypoints keep this far from the image edge (ORB patch), px, >= 16
 
   void Check() const;
   void Load(OptionsReader& reader);

@@ -2,7 +2,6 @@
 // Small fixed-size patches sampled from 8-bit grey images, and their normalised
 // cross-correlation: the photometric check shared by the stereo matcher and the tracker.
 #include <opencv2/core/mat.hpp>
-
 #include <vector>
 
 namespace cslam {

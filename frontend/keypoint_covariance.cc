@@ -1,7 +1,6 @@
 #include "frontend/keypoint_covariance.h"
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 

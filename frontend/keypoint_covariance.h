@@ -35,10 +35,10 @@ struct KeypointCovarianceOptions {
 
 /// What the covariance model needs to know about one stereo keypoint.
 struct KeypointCovarianceInput {
-  cv::Point2f left;        ///< (uL, vL), px
-  int level = 0;           ///< pyramid level of detection
-  double fb_error_px = 0;  ///< forward-backward error of the last tracking step (0 when new)
-  double stereo_ncc = 1;   ///< ρ: NCC at the stereo peak (1 = perfect: no match term)
+  cv::Point2f left;             ///< (uL, vL), px
+  int level = 0;                ///< pyramid level of detection
+  double fb_error_px = 0;       ///< forward-backward error of the last tracking step (0 when new)
+  double stereo_ncc = 1;        ///< ρ: NCC at the stereo peak (1 = perfect: no match term)
   double stereo_curvature = 0;  ///< κ: −∂²NCC/∂u² at the peak, per px² (<= 0: no match term)
 };
 

@@ -1,8 +1,7 @@
 #include "frontend/klt_tracker.h"
 
-#include <opencv2/video/tracking.hpp>
-
 #include <cmath>
+#include <opencv2/video/tracking.hpp>
 
 #include "core/options_reader.h"
 #include "frontend/image_patch.h"
@@ -16,8 +15,8 @@ void KltTrackerOptions::Check() const {
   CheckOption(max_iterations > 0, "max_iterations", "must be > 0", max_iterations);
   CheckOption(epsilon_px > 0, "epsilon_px", "must be > 0 px", epsilon_px);
   CheckOption(max_fb_error_px > 0, "max_fb_error_px", "must be > 0 px", max_fb_error_px);
-  CheckOption(ncc_patch_px >= 3 && ncc_patch_px % 2 == 1, "ncc_patch_px",
-              "must be odd and >= 3 px", ncc_patch_px);
+  CheckOption(ncc_patch_px >= 3 && ncc_patch_px % 2 == 1, "ncc_patch_px", "must be odd and >= 3 px",
+              ncc_patch_px);
   CheckOption(min_ncc >= -1 && min_ncc <= 1, "min_ncc", "must be in [-1, 1]", min_ncc);
   CheckOption(border_px >= 0, "border_px", "must be >= 0 px", border_px);
 }
@@ -62,7 +61,8 @@ std::vector<TrackResult> KltTracker::Track(const KltPyramid& prev, const KltPyra
   // Backward from the forward result, seeded with the same motion guess reversed (not with
   // the start point, which would hand the check its answer): a correct track returns.
   std::vector<cv::Point2f> back(n);
-  for (size_t i = 0; i < n; ++i) back[i] = p1[i] - (predicted.size() == n ? predicted[i] - p0[i] : cv::Point2f(0, 0));
+  for (size_t i = 0; i < n; ++i)
+    back[i] = p1[i] - (predicted.size() == n ? predicted[i] - p0[i] : cv::Point2f(0, 0));
   cv::calcOpticalFlowPyrLK(cur.levels, prev.levels, p1, back, status_bwd, err, win,
                            options_.max_level, term, cv::OPTFLOW_USE_INITIAL_FLOW);
 

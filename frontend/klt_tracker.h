@@ -4,7 +4,6 @@
 // the camera's own motion: independently moving points are what the backend clusters.
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
-
 #include <span>
 #include <vector>
 
@@ -14,14 +13,14 @@ class OptionsReader;
 
 /// Options of KltTracker.
 struct KltTrackerOptions {
-  int window_px = 11;             ///< Lucas-Kanade window side, px, odd, >= 5 (cost ∝ area)
-  int max_level = 3;              ///< coarsest pyramid level (0 = no pyramid), in [0, 8]
-  int max_iterations = 20;        ///< LK iterations per level, > 0
-  double epsilon_px = 0.03;       ///< LK stops when the update is below this, px, > 0
-  double max_fb_error_px = 0.5;   ///< forward-backward round-trip error allowed, px, > 0
-  int ncc_patch_px = 11;          ///< window of the photometric check, px, odd, >= 3
-  double min_ncc = 0.7;           ///< previous vs current patch NCC; -1 disables the check
-  double border_px = 8;           ///< tracked points must stay this far inside the image, px
+  int window_px = 11;            ///< Lucas-Kanade window side, px, odd, >= 5 (cost ∝ area)
+  int max_level = 3;             ///< coarsest pyramid level (0 = no pyramid), in [0, 8]
+  int max_iterations = 20;       ///< LK iterations per level, > 0
+  double epsilon_px = 0.03;      ///< LK stops when the update is below this, px, > 0
+  double max_fb_error_px = 0.5;  ///< forward-backward round-trip error allowed, px, > 0
+  int ncc_patch_px = 11;         ///< window of the photometric check, px, odd, >= 3
+  double min_ncc = 0.7;          ///< previous vs current patch NCC; -1 disables the check
+  double border_px = 8;          ///< tracked points must stay this far inside the image, px
 
   void Check() const;
   void Load(OptionsReader& reader);
@@ -39,17 +38,17 @@ enum class TrackReject {
 /// Result for one tracked point.
 struct TrackResult {
   TrackReject status = TrackReject::kLost;
-  cv::Point2f pt;          ///< position in the current image, px
-  float fb_error_px = 0;   ///< forward-backward round-trip distance, px
-  float ncc = 0;           ///< previous vs current patch NCC
+  cv::Point2f pt;         ///< position in the current image, px
+  float fb_error_px = 0;  ///< forward-backward round-trip distance, px
+  float ncc = 0;          ///< previous vs current patch NCC
   bool ok() const { return status == TrackReject::kOk; }
 };
 
 /// An image pyramid with LK derivatives, built once per frame and used both as "current" (for
 /// the forward pass) and, a frame later, as "previous".
 struct KltPyramid {
-  cv::Mat image;                 ///< level-0 grey image (CV_8UC1), shared, not copied
-  std::vector<cv::Mat> levels;   ///< cv::buildOpticalFlowPyramid output
+  cv::Mat image;                ///< level-0 grey image (CV_8UC1), shared, not copied
+  std::vector<cv::Mat> levels;  ///< cv::buildOpticalFlowPyramid output
 };
 
 /// Pyramidal KLT tracker. Stateless apart from its options; thread-compatible.

@@ -57,8 +57,7 @@ struct Track {
 }  // namespace
 
 struct StereoFrontend::State {
-  State(const FrontendOptions& o)
-      : detector(o.detector), tracker(o.tracker), matcher(o.stereo) {}
+  State(const FrontendOptions& o) : detector(o.detector), tracker(o.tracker), matcher(o.stereo) {}
   GridDetector detector;
   KltTracker tracker;
   StereoMatcher matcher;
@@ -204,12 +203,13 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
   summary.covariance_ms = timer.ElapsedMs();
   summary.total_ms = total.ElapsedMs();
 
-  GetLogger("frontend")->debug(
-      "frame {}: tracked {} created {} lost {} stereo-rejected {} | track {:.1f} ms, detect "
-      "{:.1f} ms, stereo {:.1f} ms, cov {:.1f} ms, total {:.1f} ms",
-      frame, summary.tracked, summary.created, summary.lost, summary.stereo_rejected,
-      summary.track_ms, summary.detect_ms, summary.stereo_ms, summary.covariance_ms,
-      summary.total_ms);
+  GetLogger("frontend")
+      ->debug(
+          "frame {}: tracked {} created {} lost {} stereo-rejected {} | track {:.1f} ms, detect "
+          "{:.1f} ms, stereo {:.1f} ms, cov {:.1f} ms, total {:.1f} ms",
+          frame, summary.tracked, summary.created, summary.lost, summary.stereo_rejected,
+          summary.track_ms, summary.detect_ms, summary.stereo_ms, summary.covariance_ms,
+          summary.total_ms);
   return summary;
 }
 

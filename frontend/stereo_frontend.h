@@ -4,9 +4,8 @@
 // row (ORB + 1-D NCC refinement), re-detects in emptied grid cells and appends the stereo
 // observations, each with a 3×3 pixel covariance, to the TrackletTable. No ego-motion
 // outlier rejection: tracks on moving objects are kept (docs/frontend.md).
-#include <opencv2/core/mat.hpp>
-
 #include <memory>
+#include <opencv2/core/mat.hpp>
 
 #include "core/stereo_camera.h"
 #include "frontend/grid_detector.h"
@@ -43,14 +42,14 @@ struct FrontendOptions {
 /// What happened in one frame; times are wall-clock milliseconds.
 struct FrameSummary {
   int frame = -1;
-  int tracked = 0;          ///< live tracks continued into this frame (with a stereo match)
-  int created = 0;          ///< new tracks started this frame (detected and stereo-matched)
-  int lost = 0;             ///< tracks that ended this frame (tracking or stereo failure)
-  int stereo_rejected = 0;  ///< of the tracked and new points, those without a stereo match
-  int lost_in_stereo = 0;   ///< of `lost`, tracked points ended by a failed stereo match
-  int detected = 0;         ///< new corners detected before the stereo match
-  int new_landmarks = 0;    ///< landmark ids created in the table this frame
-  int observations = 0;     ///< observations appended to the table this frame
+  int tracked = 0;           ///< live tracks continued into this frame (with a stereo match)
+  int created = 0;           ///< new tracks started this frame (detected and stereo-matched)
+  int lost = 0;              ///< tracks that ended this frame (tracking or stereo failure)
+  int stereo_rejected = 0;   ///< of the tracked and new points, those without a stereo match
+  int lost_in_stereo = 0;    ///< of `lost`, tracked points ended by a failed stereo match
+  int detected = 0;          ///< new corners detected before the stereo match
+  int new_landmarks = 0;     ///< landmark ids created in the table this frame
+  int observations = 0;      ///< observations appended to the table this frame
   double track_ms = 0;       ///< pyramid + KLT forward-backward + NCC
   double detect_ms = 0;      ///< grid FAST detection
   double stereo_ms = 0;      ///< right corners, descriptors, row matching, refinement

@@ -1,12 +1,11 @@
 #include "frontend/stereo_matcher.h"
 
-#include <opencv2/features2d.hpp>
-#include <opencv2/imgproc.hpp>
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
 #include "core/options_reader.h"
@@ -16,8 +15,8 @@ namespace cslam {
 
 void StereoMatcherOptions::Check() const {
   CheckOption(min_disparity_px > 0, "min_disparity_px", "must be > 0 px", min_disparity_px);
-  CheckOption(max_disparity_px > min_disparity_px, "max_disparity_px",
-              "must be > min_disparity_px", max_disparity_px);
+  CheckOption(max_disparity_px > min_disparity_px, "max_disparity_px", "must be > min_disparity_px",
+              max_disparity_px);
   CheckOption(coarse_patch_px >= 3 && coarse_patch_px % 2 == 1, "coarse_patch_px",
               "must be odd and >= 3 px", coarse_patch_px);
   CheckOption(max_ambiguity > 0 && max_ambiguity <= 1, "max_ambiguity", "must be in (0, 1]",
@@ -190,7 +189,8 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     res.status = StereoReject::kOffImage;
 
     // Coarse: every disparity of the range at half resolution (pyrDown maps x → x/2).
-    const int cl = static_cast<int>(std::lround(p.x / 2)), row = static_cast<int>(std::lround(p.y / 2));
+    const int cl = static_cast<int>(std::lround(p.x / 2)),
+              row = static_cast<int>(std::lround(p.y / 2));
     if (!(row - ch >= 0 && row + ch < m.left1.rows && cl - ch >= 0 && cl + ch < m.left1.cols))
       continue;
     // A tracked point's last disparity narrows the search to where it can be a frame later.
@@ -231,7 +231,7 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
       continue;
     m.templ = PrepareNcc(m.patch);
     int s_best = 0;
-    double fine[64];
+    double fine[64] = {};
     for (int s = 0; s <= 2 * radius; ++s) {
       fine[s] = NccAt(m.templ, m.strip, strip_w, s, 0);
       if (fine[s] > fine[s_best]) s_best = s;
@@ -251,8 +251,8 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
 
     // Row error: NCC at rows −2..+2 around the refined match; the parabola vertex around the
     // best of the inner three is the vertical offset (a best row at ±2 means ≥ 1.5 px off).
-    if (!SampleStrip(right_grey, res.u_right - half, p.y - half - 2,
-                     o.patch_px, o.patch_px + 4, &m.column))
+    if (!SampleStrip(right_grey, res.u_right - half, p.y - half - 2, o.patch_px, o.patch_px + 4,
+                     &m.column))
       continue;
     double vert[5];
     for (int dv = 0; dv < 5; ++dv) vert[dv] = NccAt(m.templ, m.column, o.patch_px, 0, dv);

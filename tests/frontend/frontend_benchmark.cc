@@ -3,10 +3,10 @@
 // as counters, and the median CPU time of the whole frame (the machine may be shared, so
 // wall-clock stages can include time the thread spent waiting for the core).
 #include <benchmark/benchmark.h>
-#include <opencv2/core/utility.hpp>
 
 #include <algorithm>
 #include <ctime>
+#include <opencv2/core/utility.hpp>
 #include <vector>
 
 #include "core/tracklet_table.h"

@@ -96,7 +96,9 @@ TEST_F(FrontendOnKitti, ObservationsGrowByWhatEachFrameReports) {
   for (int t = 0; t < kFrames; ++t) {
     expected += summaries_[t].observations;
     EXPECT_EQ(observations_after_[t], expected) << "frame " << t;
-    if (t > 0) EXPECT_GT(observations_after_[t], observations_after_[t - 1]);
+    if (t > 0) {
+      EXPECT_GT(observations_after_[t], observations_after_[t - 1]);
+    }
     // tracked points always extend an existing landmark; confirmed new ones add two.
     EXPECT_EQ(summaries_[t].observations, summaries_[t].tracked + summaries_[t].new_landmarks);
   }

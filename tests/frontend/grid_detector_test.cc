@@ -61,7 +61,8 @@ TEST(GridDetector, RedetectsOnlyInCellsTheTracksLeftEmpty) {
   const std::vector<DetectedKeypoint> again = detector.Detect(image, live);
   ASSERT_FALSE(again.empty());
   int right = 0;
-  for (const DetectedKeypoint& k : again) right += k.pt.x >= kSize.width / 2 - Defaults().min_distance_px;
+  for (const DetectedKeypoint& k : again)
+    right += k.pt.x >= kSize.width / 2 - Defaults().min_distance_px;
   EXPECT_EQ(right, static_cast<int>(again.size()));
 }
 

@@ -22,8 +22,8 @@ void ExpectSymmetricPositiveDefinite(const Eigen::Matrix3d& cov) {
 
 TEST(KeypointCovariance, IsSymmetricPositiveDefiniteOnTextureFlatAndEdgeAndBorder) {
   cv::Mat image = testing::RandomTexture(kSize, 21);
-  image(cv::Rect(0, 0, 80, 80)).setTo(128);                       // flat
-  image(cv::Rect(100, 0, 40, 80)).setTo(30);                      // vertical edge at x = 140
+  image(cv::Rect(0, 0, 80, 80)).setTo(128);   // flat
+  image(cv::Rect(100, 0, 40, 80)).setTo(30);  // vertical edge at x = 140
   image(cv::Rect(140, 0, 40, 80)).setTo(220);
   const KeypointCovarianceOptions o;
   for (const cv::Point2f p : {cv::Point2f(200, 120), cv::Point2f(40, 40), cv::Point2f(140, 40),
@@ -73,7 +73,9 @@ TEST(KeypointCovariance, GrowsWithPyramidLevelTrackingResidualAndWeakStereoPeak)
   const Eigen::Matrix3d sharp = KeypointCovariance(image, {p, 0, 0, 0.95, 0.4}, o);
   const Eigen::Matrix3d blunt = KeypointCovariance(image, {p, 0, 0, 0.80, 0.1}, o);
   EXPECT_TRUE(testing::MatrixNear(sharp.topLeftCorner<2, 2>(), blunt.topLeftCorner<2, 2>(), 1e-12));
-  const auto disparity_var = [](const Eigen::Matrix3d& c) { return c(0, 0) + c(2, 2) - 2 * c(0, 2); };
+  const auto disparity_var = [](const Eigen::Matrix3d& c) {
+    return c(0, 0) + c(2, 2) - 2 * c(0, 2);
+  };
   EXPECT_NEAR(disparity_var(blunt) - disparity_var(sharp),
               o.match_weight * (0.2 / 0.1 - 0.05 / 0.4), 1e-9);
 }

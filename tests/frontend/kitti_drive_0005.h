@@ -2,12 +2,11 @@
 // The KITTI raw drive 0005 grey stereo pair for frontend tests and the benchmark, read with
 // cv::imread (the project's KITTI readers live in system/, which tests of the frontend layer
 // do not need).
-#include <opencv2/core/mat.hpp>
-#include <opencv2/imgcodecs.hpp>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <opencv2/core/mat.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "core/stereo_camera.h"

@@ -16,7 +16,8 @@ const cv::Point2f kShift(3.4f, -1.7f);
 TEST(KltTracker, FollowsAKnownImageMotion) {
   const cv::Mat a = testing::RandomTexture(kSize, 7);
   // b(u, v) = a(u − s): every point moves by +s.
-  const cv::Mat b = testing::Warp(a, kSize, [](float u, float v) { return cv::Point2f(u, v) - kShift; });
+  const cv::Mat b =
+      testing::Warp(a, kSize, [](float u, float v) { return cv::Point2f(u, v) - kShift; });
   const std::vector<cv::Point2f> pts = testing::TestCorners(a);
   ASSERT_GE(pts.size(), 300u);
   const KltTracker tracker{KltTrackerOptions{}};

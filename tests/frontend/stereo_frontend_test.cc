@@ -47,18 +47,19 @@ struct Scene {
   // image(u, v) shows the object point (u + d_obj, v) − motion when that lies in the
   // object's frame-0 rectangle, else the background point (u + d_bg, v) − motion.
   cv::Mat Compose(double d_bg, double d_obj, cv::Point2f bg, cv::Point2f obj) const {
-    const cv::Point2f shift_bg(static_cast<float>(d_bg), 0), shift_obj(static_cast<float>(d_obj), 0);
-    const cv::Mat b = testing::Warp(background, kSize, [&](float u, float v) {
-      return cv::Point2f(u, v) + shift_bg - bg;
-    });
-    const cv::Mat o = testing::Warp(object, kSize, [&](float u, float v) {
-      return cv::Point2f(u, v) + shift_obj - obj;
-    });
+    const cv::Point2f shift_bg(static_cast<float>(d_bg), 0),
+        shift_obj(static_cast<float>(d_obj), 0);
+    const cv::Mat b = testing::Warp(
+        background, kSize, [&](float u, float v) { return cv::Point2f(u, v) + shift_bg - bg; });
+    const cv::Mat o = testing::Warp(
+        object, kSize, [&](float u, float v) { return cv::Point2f(u, v) + shift_obj - obj; });
     cv::Mat out = b.clone();
     for (int v = 0; v < kSize.height; ++v)
       for (int u = 0; u < kSize.width; ++u) {
-        const cv::Point2f q = cv::Point2f(static_cast<float>(u), static_cast<float>(v)) + shift_obj - obj;
-        if (object_rect.contains(cv::Point(static_cast<int>(std::floor(q.x)), static_cast<int>(std::floor(q.y)))))
+        const cv::Point2f q =
+            cv::Point2f(static_cast<float>(u), static_cast<float>(v)) + shift_obj - obj;
+        if (object_rect.contains(
+                cv::Point(static_cast<int>(std::floor(q.x)), static_cast<int>(std::floor(q.y)))))
           out.at<uint8_t>(v, u) = o.at<uint8_t>(v, u);
       }
     return out;
@@ -92,7 +93,8 @@ TEST(StereoFrontend, KeepsTracksOnAPatchMovingAgainstTheBackground) {
   const cv::Rect inner(scene.object_rect.x + margin, scene.object_rect.y + margin,
                        scene.object_rect.width - 2 * margin, scene.object_rect.height - 2 * margin);
   const cv::Rect outer(scene.object_rect.x - margin - 40, scene.object_rect.y - margin - 10,
-                       scene.object_rect.width + 2 * margin + 80, scene.object_rect.height + 2 * margin + 20);
+                       scene.object_rect.width + 2 * margin + 80,
+                       scene.object_rect.height + 2 * margin + 20);
   int on_object = 0, on_background = 0;
   for (int id = 0; id < table.num_landmarks(); ++id) {
     const auto obs = table.ObservationsOf(id);
@@ -107,7 +109,8 @@ TEST(StereoFrontend, KeepsTracksOnAPatchMovingAgainstTheBackground) {
     (object ? on_object : on_background)++;
     EXPECT_NEAR(obs[1].x(0) - obs[0].x(0), motion.x, 0.3) << "landmark " << id;
     EXPECT_NEAR(obs[1].x(1) - obs[0].x(1), motion.y, 0.3) << "landmark " << id;
-    for (const StereoObservation& o : obs) EXPECT_NEAR(o.x(0) - o.x(2), disparity, 0.3) << "landmark " << id;
+    for (const StereoObservation& o : obs)
+      EXPECT_NEAR(o.x(0) - o.x(2), disparity, 0.3) << "landmark " << id;
   }
   // The object covers ~(168×88)/(600×200) of the usable image: ~70 of 600 targets. Most of
   // them must survive: nothing rejects a track for moving unlike the camera.
@@ -133,7 +136,8 @@ TEST(StereoFrontend, TableBookkeepingAcrossFramesAndReset) {
   // A frame's observations: the tracks continued into it plus the tracks born in it that the
   // next frame confirmed.
   for (int t = 0; t + 1 < 4; ++t)
-    EXPECT_EQ(static_cast<int>(table.ObservationsAt(t).size()), s[t].tracked + s[t + 1].new_landmarks)
+    EXPECT_EQ(static_cast<int>(table.ObservationsAt(t).size()),
+              s[t].tracked + s[t + 1].new_landmarks)
         << "frame " << t;
   for (int id = 0; id < table.num_landmarks(); ++id) {
     const auto obs = table.ObservationsOf(id);

@@ -74,8 +74,8 @@ TEST(StereoMatcher, RejectsDisparitiesOutsideTheRange) {
       EXPECT_LE(d, o.max_disparity_px);
       EXPECT_GT(std::abs(d - TrueDisparity(pts[i].y)), 0.3);
     }
-    const auto accepted = std::count_if(matches.begin(), matches.end(),
-                                        [](const StereoMatch& m) { return m.ok(); });
+    const auto accepted =
+        std::count_if(matches.begin(), matches.end(), [](const StereoMatch& m) { return m.ok(); });
     EXPECT_LT(accepted, 0.05 * pts.size());
   }
 }
@@ -140,8 +140,8 @@ TEST(StereoMatcher, RejectsWhenTheRightImageShowsDifferentTexture) {
   const std::vector<cv::Point2f> pts = testing::TestCorners(pair.left);
   StereoMatcher matcher{StereoMatcherOptions{}};
   const std::vector<StereoMatch> matches = matcher.Match(pair.left, other, pts);
-  const auto accepted = std::count_if(matches.begin(), matches.end(),
-                                      [](const StereoMatch& m) { return m.ok(); });
+  const auto accepted =
+      std::count_if(matches.begin(), matches.end(), [](const StereoMatch& m) { return m.ok(); });
   EXPECT_LT(accepted, 0.02 * pts.size());
 }
 

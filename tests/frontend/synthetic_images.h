@@ -1,10 +1,9 @@
 #pragma once
 // Synthetic grey images with a known answer for frontend tests: smooth random texture warped
 // with cv::remap, so every pixel's true stereo disparity and frame-to-frame motion are known.
+#include <functional>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-
-#include <functional>
 #include <vector>
 
 #include "frontend/grid_detector.h"
