@@ -11,7 +11,7 @@
 
 #include "core/tracklet_table.h"
 #include "frontend/stereo_frontend.h"
-#include "tests/frontend/kitti_drive_0005.h"
+#include "tests/frontend/kitti_images.h"
 
 namespace cslam {
 namespace {

@@ -1,5 +1,6 @@
 #pragma once
-// The KITTI raw drive 0005 grey stereo pair for frontend tests and the benchmark, read with
+// KITTI grey stereo pairs (raw drive 0005, odometry clip_a) for frontend tests and the
+// benchmark, read with
 // cv::imread (the project's KITTI readers live in system/, which tests of the frontend layer
 // do not need).
 #include <cstdio>
@@ -40,16 +41,43 @@ inline StereoCamera Drive0005Camera() {
   return cam;
 }
 
-/// Left (image_00) and right (image_01) grey images of frame `index`; empty when missing.
+/// A left and a right grey image; empty when missing.
 struct StereoPair {
   cv::Mat left, right;
 };
+
+/// Left (image_00) and right (image_01) of drive 0005 frame `index`.
 inline StereoPair LoadDrive0005Pair(int index) {
   char name[32];
   std::snprintf(name, sizeof(name), "%010d.png", index);
   StereoPair pair;
   pair.left = cv::imread((Drive0005Dir() / "image_00/data" / name).string(), cv::IMREAD_GRAYSCALE);
   pair.right = cv::imread((Drive0005Dir() / "image_01/data" / name).string(), cv::IMREAD_GRAYSCALE);
+  return pair;
+}
+
+/// The odometry clip_a camera from sequences/clip_a/calib.txt: P0 = [707.0912 0 601.8873 0;
+/// 0 707.0912 183.1104 0; 0 0 1 0], P1[0,3] = -379.8145 → baseline 379.8145 / 707.0912 =
+/// 0.53715 m; images 1226×370.
+inline StereoCamera ClipACamera() {
+  StereoCamera cam;
+  cam.fx = cam.fy = 707.0912;
+  cam.cx = 601.8873;
+  cam.cy = 183.1104;
+  cam.baseline = 379.8145 / 707.0912;
+  cam.width = 1226;
+  cam.height = 370;
+  return cam;
+}
+
+/// Left (image_0) and right (image_1) of odometry clip_a frame `index`.
+inline StereoPair LoadClipAPair(int index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06d.png", index);
+  const std::filesystem::path dir = SharedDataDir() / "kitti_odometry/sequences/clip_a";
+  StereoPair pair;
+  pair.left = cv::imread((dir / "image_0" / name).string(), cv::IMREAD_GRAYSCALE);
+  pair.right = cv::imread((dir / "image_1" / name).string(), cv::IMREAD_GRAYSCALE);
   return pair;
 }
 
