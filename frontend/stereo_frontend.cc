@@ -1,5 +1,6 @@
 #include "frontend/stereo_frontend.h"
 
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,31 @@ void FrontendOptions::Load(OptionsReader& reader) {
 }
 
 namespace {
+/// Wall-clock and thread-CPU stopwatch for the per-stage times of FrameSummary.
+class StageClock {
+ public:
+  StageClock() { Reset(); }
+  void Reset() {
+    wall_.Reset();
+    cpu_start_ = ThreadCpuMs();
+  }
+  /// Writes the time since the last Reset and resets.
+  void Lap(double* wall_ms, double* cpu_ms) {
+    *wall_ms = wall_.ElapsedMs();
+    *cpu_ms = ThreadCpuMs() - cpu_start_;
+    Reset();
+  }
+
+ private:
+  static double ThreadCpuMs() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+  }
+  Timer wall_;
+  double cpu_start_ = 0;
+};
+
 /// One live tracklet. landmark < 0 while it waits for confirmation; its first observation is
 /// then held here instead of in the table.
 struct Track {
@@ -98,10 +124,10 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
   State& s = *state_;
   FrameSummary summary;
   summary.frame = frame;
-  const Timer total;
+  StageClock total;
 
   // 1. Temporal tracking of the live tracks.
-  Timer timer;
+  StageClock timer;
   KltPyramid cur = s.tracker.BuildPyramid(left_grey);
   std::vector<Track> tracks;
   if (s.has_prev && !s.tracks.empty()) {
@@ -126,29 +152,26 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
       tracks.push_back(t);
     }
   }
-  summary.track_ms = timer.ElapsedMs();
+  timer.Lap(&summary.track_ms, &summary.cpu_track_ms);
 
   // 2. Re-detection in the cells the surviving tracks leave empty.
-  timer.Reset();
   std::vector<cv::Point2f> points;
   points.reserve(tracks.size() + options_.detector.target_count);
   for (const Track& t : tracks) points.push_back(t.pt);
   const std::vector<DetectedKeypoint> detections = s.detector.Detect(left_grey, points);
   summary.detected = static_cast<int>(detections.size());
   for (const DetectedKeypoint& d : detections) points.push_back(d.pt);
-  summary.detect_ms = timer.ElapsedMs();
+  timer.Lap(&summary.detect_ms, &summary.cpu_detect_ms);
 
   // 3. Stereo match of every point, tracked and new.
-  timer.Reset();
   std::vector<float> priors(points.size(), 0.f);
   if (options_.use_disparity_prior)
     for (size_t i = 0; i < tracks.size(); ++i) priors[i] = tracks[i].disparity;
   const std::vector<StereoMatch> matches = s.matcher.Match(left_grey, right_grey, points, priors);
-  summary.stereo_ms = timer.ElapsedMs();
+  timer.Lap(&summary.stereo_ms, &summary.cpu_stereo_ms);
 
   // 4. Covariances and table writes. A tracked point without a stereo match ends its track:
   // the backend needs stereo observations.
-  timer.Reset();
   std::vector<Track> next;
   next.reserve(points.size());
   const size_t num_tracked = tracks.size();
@@ -200,8 +223,8 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
   s.tracks = std::move(next);
   s.prev = std::move(cur);
   s.has_prev = true;
-  summary.covariance_ms = timer.ElapsedMs();
-  summary.total_ms = total.ElapsedMs();
+  timer.Lap(&summary.covariance_ms, &summary.cpu_covariance_ms);
+  total.Lap(&summary.total_ms, &summary.cpu_total_ms);
 
   GetLogger("frontend")
       ->debug(

@@ -42,19 +42,21 @@ struct FrontendOptions {
 /// What happened in one frame; times are wall-clock milliseconds.
 struct FrameSummary {
   int frame = -1;
-  int tracked = 0;           ///< live tracks continued into this frame (with a stereo match)
-  int created = 0;           ///< new tracks started this frame (detected and stereo-matched)
-  int lost = 0;              ///< tracks that ended this frame (tracking or stereo failure)
-  int stereo_rejected = 0;   ///< of the tracked and new points, those without a stereo match
-  int lost_in_stereo = 0;    ///< of `lost`, tracked points ended by a failed stereo match
-  int detected = 0;          ///< new corners detected before the stereo match
-  int new_landmarks = 0;     ///< landmark ids created in the table this frame
-  int observations = 0;      ///< observations appended to the table this frame
-  double track_ms = 0;       ///< pyramid + KLT forward-backward + NCC
-  double detect_ms = 0;      ///< grid FAST detection
-  double stereo_ms = 0;      ///< right corners, descriptors, row matching, refinement
-  double covariance_ms = 0;  ///< covariances and table writes
-  double total_ms = 0;
+  int tracked = 0;          ///< live tracks continued into this frame (with a stereo match)
+  int created = 0;          ///< new tracks started this frame (detected and stereo-matched)
+  int lost = 0;             ///< tracks that ended this frame (tracking or stereo failure)
+  int stereo_rejected = 0;  ///< of the tracked and new points, those without a stereo match
+  int lost_in_stereo = 0;   ///< of `lost`, tracked points ended by a failed stereo match
+  int detected = 0;         ///< new corners detected before the stereo match
+  int new_landmarks = 0;    ///< landmark ids created in the table this frame
+  int observations = 0;     ///< observations appended to the table this frame
+  // Per stage: wall-clock ms (what a caller waits) and the calling thread's CPU ms (what the
+  // stage costs, unaffected by other processes competing for the core).
+  double track_ms = 0, cpu_track_ms = 0;            ///< pyramid + KLT forward-backward + NCC
+  double detect_ms = 0, cpu_detect_ms = 0;          ///< grid FAST detection
+  double stereo_ms = 0, cpu_stereo_ms = 0;          ///< row search, refinement, checks
+  double covariance_ms = 0, cpu_covariance_ms = 0;  ///< covariances and table writes
+  double total_ms = 0, cpu_total_ms = 0;
 };
 
 /// Stateful frontend for one camera stream. Not thread-safe; one instance per stream.
