@@ -36,9 +36,11 @@ KltTracker::KltTracker(const KltTrackerOptions& options) : options_(options) { o
 
 KltPyramid KltTracker::BuildPyramid(const cv::Mat& grey) const {
   KltPyramid pyr;
-  pyr.image = grey;
   cv::buildOpticalFlowPyramid(grey, pyr.levels, cv::Size(options_.window_px, options_.window_px),
                               options_.max_level, /*withDerivatives=*/true);
+  // Level 0 is a bordered copy (the border mode is not BORDER_TRANSPARENT), so the pyramid
+  // does not alias the caller's buffer, which a reader may reuse for the next frame.
+  pyr.image = pyr.levels[0];
   return pyr;
 }
 

@@ -47,7 +47,7 @@ struct TrackResult {
 /// An image pyramid with LK derivatives, built once per frame and used both as "current" (for
 /// the forward pass) and, a frame later, as "previous".
 struct KltPyramid {
-  cv::Mat image;                ///< level-0 grey image (CV_8UC1), shared, not copied
+  cv::Mat image;                ///< level-0 grey image (CV_8UC1), a copy owned by the pyramid
   std::vector<cv::Mat> levels;  ///< cv::buildOpticalFlowPyramid output
 };
 

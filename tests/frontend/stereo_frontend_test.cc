@@ -155,6 +155,31 @@ TEST(StereoFrontend, TableBookkeepingAcrossFramesAndReset) {
   EXPECT_GT(after.created, 0);
 }
 
+TEST(StereoFrontend, DoesNotKeepReferencesToTheCallersImages) {
+  // A reader may decode every frame into the same buffers; results must not change.
+  const Scene scene;
+  std::vector<Scene::Pair> frames;
+  for (int t = 0; t < 3; ++t)
+    frames.push_back(scene.Render({2.0f * t, 0.5f * t}, {-3.0f * t, 1.0f * t}));
+  TrackletTable fresh_table, reused_table;
+  StereoFrontend fresh(SyntheticCamera(), SmallImageOptions());
+  StereoFrontend reused(SyntheticCamera(), SmallImageOptions());
+  cv::Mat left_buffer(kSize, CV_8U), right_buffer(kSize, CV_8U);
+  for (int t = 0; t < 3; ++t) {
+    fresh.Process(t, frames[t].left, frames[t].right, &fresh_table);
+    frames[t].left.copyTo(left_buffer);
+    frames[t].right.copyTo(right_buffer);
+    reused.Process(t, left_buffer, right_buffer, &reused_table);
+  }
+  ASSERT_GT(fresh_table.num_observations(), 0u);
+  ASSERT_EQ(fresh_table.num_landmarks(), reused_table.num_landmarks());
+  for (int id = 0; id < fresh_table.num_landmarks(); ++id) {
+    const auto a = fresh_table.ObservationsOf(id), b = reused_table.ObservationsOf(id);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k].x, b[k].x);
+  }
+}
+
 TEST(StereoFrontend, WritesNewTracksAtOnceWhenConfirmationIsOff) {
   const Scene scene;
   FrontendOptions o = SmallImageOptions();
