@@ -89,6 +89,7 @@ struct StereoFrontend::State {
   StereoMatcher matcher;
   KltPyramid prev;
   bool has_prev = false;
+  int last_frame = -1;
   std::vector<Track> tracks;
 };
 
@@ -122,6 +123,9 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
                            std::to_string(image->cols) + "x" + std::to_string(image->rows) +
                            " with " + std::to_string(image->channels()) + " channel(s)");
   State& s = *state_;
+  // Tracks carry observations between frames; going back would write a landmark's frames out
+  // of order.
+  CSLAM_CHECK(!s.has_prev || frame > s.last_frame, "frames must be processed in increasing order");
   FrameSummary summary;
   summary.frame = frame;
   StageClock total;
@@ -223,6 +227,7 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
   s.tracks = std::move(next);
   s.prev = std::move(cur);
   s.has_prev = true;
+  s.last_frame = frame;
   timer.Lap(&summary.covariance_ms, &summary.cpu_covariance_ms);
   total.Lap(&summary.total_ms, &summary.cpu_total_ms);
 

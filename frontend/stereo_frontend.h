@@ -71,7 +71,7 @@ class StereoFrontend {
   /// Tracks live tracklets into this frame, matches them in the right image, detects new
   /// ones; appends observations for `frame` to `table`. Images are rectified CV_8UC1 of the
   /// camera's size (throws InputError otherwise); they are not retained after the call.
-  /// Frames are expected in increasing order.
+  /// Frame indices must increase between calls (a broken invariant aborts); Reset() lifts it.
   FrameSummary Process(int frame, const cv::Mat& left_grey, const cv::Mat& right_grey,
                        TrackletTable* table);
   /// Drops all live tracks (tracking loss / re-initialisation).
