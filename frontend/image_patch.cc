@@ -1,0 +1,100 @@
+#include "frontend/image_patch.h"
+
+#include <cmath>
+
+namespace cslam {
+
+bool SampleStrip(const cv::Mat& grey, float x, float y, int width, int height,
+                 std::vector<float>* strip) {
+  const int x0 = static_cast<int>(std::floor(x));
+  const int y0 = static_cast<int>(std::floor(y));
+  // +1 for the bilinear neighbour; NaN coordinates fail the comparisons as well.
+  if (!(x0 >= 0 && y0 >= 0 && x0 + width < grey.cols && y0 + height < grey.rows)) return false;
+  const float fx = x - x0, fy = y - y0;
+  const float w00 = (1 - fx) * (1 - fy), w01 = fx * (1 - fy), w10 = (1 - fx) * fy, w11 = fx * fy;
+  strip->resize(static_cast<size_t>(width) * height);
+  float* out = strip->data();
+  for (int r = 0; r < height; ++r) {
+    const uint8_t* a = grey.ptr<uint8_t>(y0 + r) + x0;
+    const uint8_t* b = grey.ptr<uint8_t>(y0 + r + 1) + x0;
+    for (int c = 0; c < width; ++c)
+      *out++ = w00 * a[c] + w01 * a[c + 1] + w10 * b[c] + w11 * b[c + 1];
+  }
+  return true;
+}
+
+bool SamplePatch(const cv::Mat& grey, float x, float y, int size, ImagePatch* patch) {
+  const float half = static_cast<float>(size / 2);
+  patch->size = size;
+  return SampleStrip(grey, x - half, y - half, size, size, &patch->values);
+}
+
+namespace {
+// A window whose variance is below ~0.5 grey level² per pixel is flat: it carries no evidence.
+constexpr double kFlatVariance = 0.5;
+
+double NccOfWindows(const float* a, int a_stride, const float* b, int b_stride, int size) {
+  double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+  for (int r = 0; r < size; ++r) {
+    const float* pa = a + r * a_stride;
+    const float* pb = b + r * b_stride;
+    for (int c = 0; c < size; ++c) {
+      const double va = pa[c], vb = pb[c];
+      sa += va;
+      sb += vb;
+      saa += va * va;
+      sbb += vb * vb;
+      sab += va * vb;
+    }
+  }
+  const double n = static_cast<double>(size) * size;
+  const double var_a = saa - sa * sa / n, var_b = sbb - sb * sb / n;
+  if (var_a < kFlatVariance * n || var_b < kFlatVariance * n) return 0.0;
+  return (sab - sa * sb / n) / std::sqrt(var_a * var_b);
+}
+}  // namespace
+
+double Ncc(const ImagePatch& a, const ImagePatch& b) {
+  if (a.size != b.size || a.size <= 0) return 0.0;
+  return NccOfWindows(a.values.data(), a.size, b.values.data(), b.size, a.size);
+}
+
+NccTemplate PrepareNcc(const ImagePatch& patch) {
+  NccTemplate t;
+  t.size = patch.size;
+  const double n = static_cast<double>(patch.size) * patch.size;
+  double mean = 0;
+  for (float v : patch.values) mean += v;
+  mean /= n;
+  double norm2 = 0;
+  t.zero_mean.resize(patch.values.size());
+  for (size_t k = 0; k < patch.values.size(); ++k) {
+    t.zero_mean[k] = static_cast<float>(patch.values[k] - mean);
+    norm2 += static_cast<double>(t.zero_mean[k]) * t.zero_mean[k];
+  }
+  t.norm = norm2 < kFlatVariance * n ? 0.0 : std::sqrt(norm2);
+  return t;
+}
+
+double NccAt(const NccTemplate& templ, const std::vector<float>& strip, int strip_width, int x0,
+             int y0) {
+  if (templ.norm == 0) return 0.0;
+  const int size = templ.size;
+  // Σ t̃·r equals Σ t̃·(r − r̄) because Σ t̃ = 0, so only the window's variance is needed.
+  float sr = 0, srr = 0, str = 0;
+  for (int r = 0; r < size; ++r) {
+    const float* w = strip.data() + static_cast<size_t>(y0 + r) * strip_width + x0;
+    const float* t = templ.zero_mean.data() + r * size;
+    for (int c = 0; c < size; ++c) {
+      sr += w[c];
+      srr += w[c] * w[c];
+      str += t[c] * w[c];
+    }
+  }
+  const double n = static_cast<double>(size) * size;
+  const double var = static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
+  if (var < kFlatVariance * n) return 0.0;
+  return str / (templ.norm * std::sqrt(var));
+}
+
+}  // namespace cslam

@@ -1,0 +1,42 @@
+#pragma once
+// Small fixed-size patches sampled from 8-bit grey images, and their normalised
+// cross-correlation: the photometric check shared by the stereo matcher and the tracker.
+#include <opencv2/core/mat.hpp>
+#include <vector>
+
+namespace cslam {
+
+/// A size×size float patch centred on a sub-pixel image point (row-major).
+struct ImagePatch {
+  int size = 0;
+  std::vector<float> values;
+};
+
+/// Samples `size`×`size` pixels (odd size) centred on (x, y) with bilinear interpolation.
+/// Returns false, leaving `patch` unspecified, when any sample would fall outside the image.
+/// Precondition: `grey` is CV_8UC1.
+bool SamplePatch(const cv::Mat& grey, float x, float y, int size, ImagePatch* patch);
+
+/// Normalised cross-correlation in [-1, 1] of two patches of equal size; 0 when either patch
+/// is flat (no texture cannot confirm a match).
+double Ncc(const ImagePatch& a, const ImagePatch& b);
+
+/// A patch prepared for repeated NCC against many windows: zero mean, with its norm.
+struct NccTemplate {
+  int size = 0;
+  std::vector<float> zero_mean;
+  double norm = 0;  ///< 0 when the patch is flat
+};
+NccTemplate PrepareNcc(const ImagePatch& patch);
+
+/// NCC of `templ` against the window of the same size whose top-left corner is (x0, y0) in
+/// `strip` (a row-major float image of width `strip_width`); 0 when either side is flat.
+double NccAt(const NccTemplate& templ, const std::vector<float>& strip, int strip_width, int x0,
+             int y0);
+
+/// Samples a `width`×`height` float strip with top-left sample at (x, y) (sub-pixel,
+/// bilinear). Returns false when it does not fit inside the image.
+bool SampleStrip(const cv::Mat& grey, float x, float y, int width, int height,
+                 std::vector<float>* strip);
+
+}  // namespace cslam

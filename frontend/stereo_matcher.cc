@@ -1,0 +1,305 @@
+#include "frontend/stereo_matcher.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/errors.h"
+#include "core/options_reader.h"
+#include "frontend/image_patch.h"
+
+namespace cslam {
+
+void StereoMatcherOptions::Check() const {
+  CheckOption(min_disparity_px > 0, "min_disparity_px", "must be > 0 px", min_disparity_px);
+  CheckOption(max_disparity_px > min_disparity_px, "max_disparity_px", "must be > min_disparity_px",
+              max_disparity_px);
+  CheckOption(coarse_patch_px >= 3 && coarse_patch_px % 2 == 1, "coarse_patch_px",
+              "must be odd and >= 3 px", coarse_patch_px);
+  CheckOption(max_ambiguity > 0 && max_ambiguity <= 1, "max_ambiguity", "must be in (0, 1]",
+              max_ambiguity);
+  CheckOption(refine_radius_px >= 2 && refine_radius_px <= 31, "refine_radius_px",
+              "must be in [2, 31] px (the coarse step is 2 px)", refine_radius_px);
+  CheckOption(patch_px >= 3 && patch_px % 2 == 1, "patch_px", "must be odd and >= 3 px", patch_px);
+  CheckOption(min_ncc >= -1 && min_ncc <= 1, "min_ncc", "must be in [-1, 1]", min_ncc);
+  CheckOption(max_row_error_px > 0, "max_row_error_px", "must be > 0 px", max_row_error_px);
+  CheckOption(max_hamming >= 0 && max_hamming <= 256, "max_hamming", "must be in [0, 256] bits",
+              max_hamming);
+  CheckOption(prior_margin_px >= 2, "prior_margin_px", "must be >= 2 px (the coarse step)",
+              prior_margin_px);
+  CheckOption(prior_margin_ratio >= 0, "prior_margin_ratio", "must be >= 0", prior_margin_ratio);
+}
+
+void StereoMatcherOptions::Load(OptionsReader& reader) {
+  reader.Read("min_disparity_px", &min_disparity_px);
+  reader.Read("max_disparity_px", &max_disparity_px);
+  reader.Read("coarse_patch_px", &coarse_patch_px);
+  reader.Read("max_ambiguity", &max_ambiguity);
+  reader.Read("refine_radius_px", &refine_radius_px);
+  reader.Read("patch_px", &patch_px);
+  reader.Read("min_ncc", &min_ncc);
+  reader.Read("max_row_error_px", &max_row_error_px);
+  reader.Read("max_hamming", &max_hamming);
+  reader.Read("prior_margin_px", &prior_margin_px);
+  reader.Read("prior_margin_ratio", &prior_margin_ratio);
+}
+
+namespace {
+constexpr int kOrbBytes = 32;
+constexpr int kOrbPatch = 31;
+// ORB's sampling pattern reaches ~15 px (patch 31) from the keypoint; +1 for rounding.
+constexpr int kOrbEdge = 16;
+
+int Hamming(const uint8_t* a, const uint8_t* b) {
+  int d = 0;
+  for (int k = 0; k < kOrbBytes; k += 8) {
+    uint64_t x, y;
+    std::memcpy(&x, a + k, 8);
+    std::memcpy(&y, b + k, 8);
+    d += std::popcount(x ^ y);
+  }
+  return d;
+}
+
+/// Vertex offset of the parabola through (−1, cm), (0, c0), (+1, cp); 0 when not concave.
+double ParabolaPeak(double cm, double c0, double cp) {
+  const double curvature = cm - 2 * c0 + cp;
+  return curvature < 0 ? 0.5 * (cm - cp) / curvature : 0.0;
+}
+
+/// Zero-mean NCC of a coarse template against every column of a right-image row band, with
+/// the window sums taken from column sums so each candidate costs one dot product.
+class CoarseSearch {
+ public:
+  /// Fills `scores[k]` for right window centres c_lo + k, k = 0..c_hi − c_lo. Returns false
+  /// when the template is flat.
+  bool Run(const cv::Mat& left1, const cv::Mat& right1, int cl, int row, int c_lo, int c_hi,
+           int size, std::vector<double>* scores) {
+    const int h = size / 2;
+    const double n = static_cast<double>(size) * size;
+    templ_.resize(static_cast<size_t>(size) * size);
+    double mean = 0;
+    for (int r = 0; r < size; ++r) {
+      const uint8_t* src = left1.ptr<uint8_t>(row - h + r) + cl - h;
+      for (int c = 0; c < size; ++c) mean += (templ_[r * size + c] = src[c]);
+    }
+    mean /= n;
+    double norm2 = 0;
+    for (float& t : templ_) {
+      t = static_cast<float>(t - mean);
+      norm2 += static_cast<double>(t) * t;
+    }
+    if (norm2 < 0.5 * n) return false;  // < ~0.7 grey levels of contrast: nothing to match
+    const double norm = std::sqrt(norm2);
+
+    // Prefix sums over columns of the band of the right window sums Σr and Σr².
+    const int x0 = c_lo - h, width = c_hi - c_lo + size;
+    sum_.assign(width + 1, 0.0);
+    sq_.assign(width + 1, 0.0);
+    for (int x = 0; x < width; ++x) {
+      double s = 0, q = 0;
+      for (int r = 0; r < size; ++r) {
+        const double v = right1.ptr<uint8_t>(row - h + r)[x0 + x];
+        s += v;
+        q += v * v;
+      }
+      sum_[x + 1] = sum_[x] + s;
+      sq_[x + 1] = sq_[x] + q;
+    }
+    // Σ t·r for every candidate at once: the inner loop runs over candidates (contiguous,
+    // vectorisable), the outer over template pixels.
+    const int count = c_hi - c_lo + 1;
+    dot_.assign(count, 0);
+    for (int r = 0; r < size; ++r) {
+      const uint8_t* band = right1.ptr<uint8_t>(row - h + r) + x0;
+      const uint8_t* trow = left1.ptr<uint8_t>(row - h + r) + cl - h;
+      for (int c = 0; c < size; ++c) {
+        const int32_t t = trow[c];
+        const uint8_t* src = band + c;
+        int32_t* acc = dot_.data();
+        for (int k = 0; k < count; ++k) acc[k] += t * src[k];
+      }
+    }
+    scores->resize(count);
+    for (int k = 0; k < count; ++k) {
+      const double s = sum_[k + size] - sum_[k], q = sq_[k + size] - sq_[k];
+      const double var = q - s * s / n;
+      // Σ (t − t̄)·r = Σ t·r − t̄·Σ r; flat right windows score 0.
+      (*scores)[k] = var < 0.5 * n ? 0.0 : (dot_[k] - mean * s) / (norm * std::sqrt(var));
+    }
+    return true;
+  }
+
+ private:
+  std::vector<float> templ_;
+  std::vector<double> sum_, sq_;
+  std::vector<int32_t> dot_;
+};
+
+cv::Ptr<cv::ORB> MakeOrb() {
+  // One level and upright descriptors: rectified views differ by neither rotation nor scale.
+  return cv::ORB::create(/*nfeatures=*/1, /*scaleFactor=*/1.2f, /*nlevels=*/1,
+                         /*edgeThreshold=*/kOrbEdge, /*firstLevel=*/0, /*WTA_K=*/2,
+                         cv::ORB::HARRIS_SCORE, kOrbPatch, /*fastThreshold=*/20);
+}
+}  // namespace
+
+struct StereoMatcher::Impl {
+  cv::Ptr<cv::ORB> orb = MakeOrb();
+  CoarseSearch coarse;
+  cv::Mat left1, right1;
+  std::vector<double> scores;
+  std::vector<float> strip, column;
+  ImagePatch patch;
+  NccTemplate templ;
+};
+
+StereoMatcher::StereoMatcher(const StereoMatcherOptions& options)
+    : options_(options), impl_(std::make_unique<Impl>()) {
+  options_.Check();
+}
+StereoMatcher::~StereoMatcher() = default;
+StereoMatcher::StereoMatcher(StereoMatcher&&) noexcept = default;
+StereoMatcher& StereoMatcher::operator=(StereoMatcher&&) noexcept = default;
+
+std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv::Mat& right_grey,
+                                              std::span<const cv::Point2f> left_points,
+                                              std::span<const float> prior_disparity) {
+  CSLAM_CHECK(prior_disparity.empty() || prior_disparity.size() == left_points.size(),
+              "one prior disparity per point, or none");
+  Impl& m = *impl_;
+  const StereoMatcherOptions& o = options_;
+  std::vector<StereoMatch> out(left_points.size());
+  if (left_points.empty()) return out;
+  cv::pyrDown(left_grey, m.left1);
+  cv::pyrDown(right_grey, m.right1);
+
+  const int ch = o.coarse_patch_px / 2;
+  const int half = o.patch_px / 2;
+  const int radius = o.refine_radius_px;
+  const int d1_min = std::max(0, static_cast<int>(std::floor(o.min_disparity_px / 2)));
+  const int d1_max = static_cast<int>(std::ceil(o.max_disparity_px / 2));
+  std::vector<cv::KeyPoint> left_kp, right_kp;
+  for (size_t i = 0; i < left_points.size(); ++i) {
+    const cv::Point2f p = left_points[i];
+    StereoMatch& res = out[i];
+    res.status = StereoReject::kOffImage;
+
+    // Coarse: every disparity of the range at half resolution (pyrDown maps x → x/2).
+    const int cl = static_cast<int>(std::lround(p.x / 2)),
+              row = static_cast<int>(std::lround(p.y / 2));
+    if (!(row - ch >= 0 && row + ch < m.left1.rows && cl - ch >= 0 && cl + ch < m.left1.cols))
+      continue;
+    // A tracked point's last disparity narrows the search to where it can be a frame later.
+    int lo = d1_min, hi = d1_max;
+    if (!prior_disparity.empty() && prior_disparity[i] > 0) {
+      const double d = prior_disparity[i];
+      const double margin = o.prior_margin_px + o.prior_margin_ratio * d;
+      lo = std::max(d1_min, static_cast<int>(std::floor((d - margin) / 2)));
+      hi = std::min(d1_max, static_cast<int>(std::ceil((d + margin) / 2)));
+    }
+    const int c_lo = std::max(ch, cl - hi);
+    const int c_hi = std::min(m.right1.cols - 1 - ch, cl - lo);
+    if (c_hi < c_lo) {
+      res.status = StereoReject::kNoCandidate;
+      continue;
+    }
+    if (!m.coarse.Run(m.left1, m.right1, cl, row, c_lo, c_hi, o.coarse_patch_px, &m.scores)) {
+      res.status = StereoReject::kPhotometric;
+      continue;
+    }
+    const auto best_it = std::max_element(m.scores.begin(), m.scores.end());
+    const int k_best = static_cast<int>(best_it - m.scores.begin());
+    // Second peak: the best score at least 2 coarse pixels from the best one.
+    double second = -1;
+    for (int k = 0; k < static_cast<int>(m.scores.size()); ++k)
+      if (std::abs(k - k_best) >= 2) second = std::max(second, m.scores[k]);
+    if (second > -1 && (1 - *best_it) > o.max_ambiguity * (1 - second)) {
+      res.status = StereoReject::kAmbiguous;
+      continue;
+    }
+    const double u0 = p.x - 2.0 * (cl - (c_lo + k_best));
+
+    // Fine: 1-D NCC along x at full resolution around the coarse match, parabola at the peak.
+    const int strip_w = o.patch_px + 2 * radius;
+    if (!SamplePatch(left_grey, p.x, p.y, o.patch_px, &m.patch) ||
+        !SampleStrip(right_grey, static_cast<float>(u0 - radius - half), p.y - half, strip_w,
+                     o.patch_px, &m.strip))
+      continue;
+    m.templ = PrepareNcc(m.patch);
+    int s_best = 0;
+    double fine[64] = {};
+    for (int s = 0; s <= 2 * radius; ++s) {
+      fine[s] = NccAt(m.templ, m.strip, strip_w, s, 0);
+      if (fine[s] > fine[s_best]) s_best = s;
+    }
+    res.ncc = static_cast<float>(fine[s_best]);
+    if (s_best == 0 || s_best == 2 * radius) {
+      res.status = StereoReject::kNoPeak;
+      continue;
+    }
+    if (res.ncc < o.min_ncc) {
+      res.status = StereoReject::kPhotometric;
+      continue;
+    }
+    const double cm = fine[s_best - 1], c0 = fine[s_best], cp = fine[s_best + 1];
+    res.curvature = static_cast<float>(-(cm - 2 * c0 + cp));
+    res.u_right = static_cast<float>(u0 - radius + s_best + ParabolaPeak(cm, c0, cp));
+
+    // Row error: NCC at rows −2..+2 around the refined match; the parabola vertex around the
+    // best of the inner three is the vertical offset (a best row at ±2 means ≥ 1.5 px off).
+    if (!SampleStrip(right_grey, res.u_right - half, p.y - half - 2, o.patch_px, o.patch_px + 4,
+                     &m.column))
+      continue;
+    double vert[5];
+    for (int dv = 0; dv < 5; ++dv) vert[dv] = NccAt(m.templ, m.column, o.patch_px, 0, dv);
+    const int v_best = static_cast<int>(std::max_element(vert, vert + 5) - vert);
+    if (v_best == 0 || v_best == 4)
+      res.row_error_px = v_best == 0 ? -2.f : 2.f;
+    else
+      res.row_error_px = static_cast<float>(
+          v_best - 2 + ParabolaPeak(vert[v_best - 1], vert[v_best], vert[v_best + 1]));
+    if (std::abs(res.row_error_px) > o.max_row_error_px) {
+      res.status = StereoReject::kRowError;
+      continue;
+    }
+    const double disparity = p.x - res.u_right;
+    if (!(disparity >= o.min_disparity_px && disparity <= o.max_disparity_px)) {
+      res.status = StereoReject::kDisparityRange;
+      continue;
+    }
+    res.status = StereoReject::kDescriptorDistance;  // until the descriptors agree
+    left_kp.emplace_back(p, static_cast<float>(kOrbPatch), 0.f, 0.f, 0, static_cast<int>(i));
+    right_kp.emplace_back(cv::Point2f(res.u_right, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f, 0,
+                          static_cast<int>(i));
+  }
+
+  // Descriptor distance of the surviving matches (ORB drops keypoints too near the border).
+  if (!left_kp.empty()) {
+    cv::Mat left_desc, right_desc;
+    m.orb->compute(left_grey, left_kp, left_desc);
+    m.orb->compute(right_grey, right_kp, right_desc);
+    std::vector<int> right_row(left_points.size(), -1);
+    for (int k = 0; k < static_cast<int>(right_kp.size()); ++k) right_row[right_kp[k].class_id] = k;
+    std::vector<char> has_left(left_points.size(), 0);
+    for (int k = 0; k < static_cast<int>(left_kp.size()); ++k) {
+      const int i = left_kp[k].class_id;
+      has_left[i] = 1;
+      if (right_row[i] < 0) {
+        out[i].status = StereoReject::kOffImage;
+        continue;
+      }
+      out[i].hamming = Hamming(left_desc.ptr<uint8_t>(k), right_desc.ptr<uint8_t>(right_row[i]));
+      if (out[i].hamming <= o.max_hamming) out[i].status = StereoReject::kOk;
+    }
+    for (size_t i = 0; i < out.size(); ++i)
+      if (out[i].status == StereoReject::kDescriptorDistance && !has_left[i])
+        out[i].status = StereoReject::kOffImage;
+  }
+  return out;
+}
+
+}  // namespace cslam
