@@ -19,5 +19,6 @@ Command AddEvalCommand(CLI::App& app);
 
 /// `cslam synth`: generates a synthetic ground-truth sequence (system/synthetic_scene.h).
 Command AddSynthCommand(CLI::App& app);
+Command AddRunCommand(CLI::App& app);
 
 }  // namespace cslam::apps

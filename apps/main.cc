@@ -23,11 +23,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
 
   std::vector<cslam::apps::Command> commands = {
-<<<<<<< HEAD
-      cslam::apps::AddEvalCommand(app),
-=======
+      cslam::apps::AddRunCommand(app),
       cslam::apps::AddSynthCommand(app),
->>>>>>> synth
+      cslam::apps::AddEvalCommand(app),
   };
 
   try {

@@ -129,7 +129,7 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
         ClusterLandmarks(table, tracks, range, opts, labels.empty() ? nullptr : &labels, &consensus);
     diag.clustering_ms = timer.ElapsedMs();
     diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
-    diag.vi_to_previous = labels.empty() ? 0.0 : VariationOfInformation(labels, next);
+    diag.vi_to_previous = labels.empty() ? 0.0 : LabellingVariation(labels, next);
     const bool stable = !labels.empty() && diag.vi_to_previous == 0.0;
     if (stable) {
       // Same partition as the estimate we already have: re-estimating would repeat it.

@@ -7,7 +7,7 @@
 
 namespace cslam {
 
-double VariationOfInformation(const std::vector<int>& a, const std::vector<int>& b) {
+double LabellingVariation(const std::vector<int>& a, const std::vector<int>& b) {
   const size_t n = std::max(a.size(), b.size());
   auto at = [](const std::vector<int>& v, size_t i) { return i < v.size() ? v[i] : -1; };
   std::map<std::pair<int, int>, double> joint;

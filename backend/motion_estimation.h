@@ -5,11 +5,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-<<<<<<< HEAD
-=======
 #include "backend/bundle_adjustment_options.h"
 #include "backend/shape_init.h"
->>>>>>> slam
 #include "core/options_reader.h"
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
@@ -39,13 +36,6 @@ struct MotionEstimate {
   const ClusterMotion* FindCluster(int label) const;
 };
 
-<<<<<<< HEAD
-/// Options of EstimateMotions (spec §5, §6). Minimal placeholder on the `cluster` branch; the
-/// `slam` branch owns the full definition.
-struct MotionEstimationOptions {
-  bool point_to_point_icp = false;  ///< ablation (Table 4): SVD point-to-point ICP initialisation
-  void Check() const;
-=======
 /// Options of EstimateMotions (spec §5, §6).
 struct MotionEstimationOptions {
   ShapeInitOptions shape_init;                ///< section "shape_init"
@@ -59,20 +49,15 @@ struct MotionEstimationOptions {
   /// Throws ConfigError naming the field that breaks its rule.
   void Check() const;
   /// Reads every field by its snake_case name; nested options from their sections.
->>>>>>> slam
   void Load(OptionsReader& reader);
 };
 
 /// Shapes and trajectories of every cluster of `landmark_cluster` ([landmark id]: -1 unused,
-<<<<<<< HEAD
-/// 0 static, > 0 moving) over `range`.
-=======
 /// 0 static, > 0 moving; shorter than the table → missing ids unused) over `range`: noise-aware
 /// shape initialisation per cluster, then bundle adjustment. World = the camera frame at
 /// range.begin. Landmarks without an observation in the range, or without a position (never a
 /// positive disparity), come back with label -1. Without any static landmark the camera stays
 /// at the identity (its motion is unobservable) and a warning is logged.
->>>>>>> slam
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
                                const MotionEstimationOptions& options);

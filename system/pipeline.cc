@@ -314,8 +314,10 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
                          const PipelineOptions& options) {
-  if (options.method == "full-ba") return RunFullBa(table, camera, range, options.backend);
-  if (options.method == "pdcs") return RunProgressiveDcs(table, camera, range, options.backend);
+  if (options.method == "full-ba")
+    return RunFullBa(table, camera, range, options.backend.Effective().motion);
+  if (options.method == "pdcs")
+    return RunProgressiveDcs(table, camera, range, options.backend.Effective().motion);
   return RunClusterSlam(table, camera, range, options.backend);
 }
 

@@ -1,5 +1,7 @@
 #include "system/pipeline_options.h"
 
+#include <algorithm>
+
 #include "core/errors.h"
 
 namespace cslam {
@@ -70,7 +72,9 @@ void PipelineOptions::ApplyPreset(const std::string& preset_name) {
 void PipelineOptions::ApplyAblation(const std::string& ablation_name) {
   CheckMember("ablation", ablation_name, {"none", "no-u", "no-i", "p2p-icp"});
   ablation = ablation_name;
-  backend.SetAblation(ablation);
+  std::string yaml_name = ablation;  // the backend spells them with underscores
+  std::replace(yaml_name.begin(), yaml_name.end(), '-', '_');
+  backend.ablation = ParseAblation(yaml_name, "ablation");
 }
 
 void PipelineOptions::Load(OptionsReader& r) {

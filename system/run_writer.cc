@@ -4,6 +4,7 @@
 #include <iomanip>
 
 #include "core/atomic_file.h"
+#include "core/errors.h"
 #include "core/logging.h"
 #include "system/image_io.h"
 #include "system/point_cloud_export.h"

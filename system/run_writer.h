@@ -6,6 +6,7 @@
 
 #include "system/metrics_json.h"
 #include "system/pipeline.h"
+#include "system/trajectory.h"
 #include "system/run_input.h"
 
 namespace cslam {

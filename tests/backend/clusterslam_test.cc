@@ -47,7 +47,7 @@ TEST(ClusterSlam, TwoRigidBodiesWithoutNoiseGiveExactlyTwoClusters) {
   const ClusterSlamOptions o = ClusterSlamOptions::Indoor();
   ASSERT_EQ(ChunksOf(range, o.consensus).size(), 2u);
   const auto labels = ClusterLandmarks(s.table, tracks, range, o, nullptr);
-  EXPECT_EQ(VariationOfInformation(labels, s.truth), 0.0);
+  EXPECT_EQ(LabellingVariation(labels, s.truth), 0.0);
   EXPECT_EQ(labels[0], 0);  // the background has the most observations: static
   EXPECT_EQ(*std::max_element(labels.begin(), labels.end()), 1);
 }
@@ -87,7 +87,7 @@ TEST(ClusterSlam, RefinedPositionsRecoverWhatTheFirstIterationMisses) {
     const BackendResult raw = RunClusterSlam(s.table, s.camera, range, o,
                                              testing::FakeEstimateMotions);
     EXPECT_EQ(raw.iterations.size(), 2u);
-    EXPECT_EQ(VariationOfInformation(raw.estimate.landmark_cluster, first), 0.0);
+    EXPECT_EQ(LabellingVariation(raw.estimate.landmark_cluster, first), 0.0);
   }
 }
 

@@ -35,7 +35,7 @@ std::vector<int> Parity(int n) {
 TEST(Consensus, RecoversTheCommonPartitionWithMissingLabels) {
   ConsensusSummary s;
   const auto labels = ConsensusLabels(SlidingChunks(), 60, MinSize(1), &s);
-  EXPECT_EQ(VariationOfInformation(labels, Parity(60)), 0.0);
+  EXPECT_EQ(LabellingVariation(labels, Parity(60)), 0.0);
   EXPECT_EQ(s.initial_clusters, 2);
   EXPECT_TRUE(s.converged);
   EXPECT_EQ(labels[0], 0);  // numbered by smallest landmark id
@@ -60,7 +60,7 @@ TEST(Consensus, OutvotesAOneChunkMistake) {
     if (chunks[2].landmarks[k] == 44) chunks[2].labels[k] = 7;
   const auto labels = ConsensusLabels(chunks, 60, MinSize(1));
   EXPECT_EQ(labels[44], labels[0]);
-  EXPECT_EQ(VariationOfInformation(labels, Parity(60)), 0.0);
+  EXPECT_EQ(LabellingVariation(labels, Parity(60)), 0.0);
 }
 
 TEST(Consensus, ALandmarkSeenInOneChunkFollowsItsLabelThere) {

@@ -7,16 +7,16 @@
 namespace cslam {
 namespace {
 
-TEST(Labelling, VariationOfInformationIsZeroExactlyUpToRelabelling) {
-  EXPECT_EQ(VariationOfInformation({0, 0, 1, 1, 2}, {5, 5, 3, 3, 0}), 0.0);
-  EXPECT_GT(VariationOfInformation({0, 0, 1, 1, 2}, {5, 5, 3, 0, 0}), 0.1);
+TEST(Labelling, LabellingVariationIsZeroExactlyUpToRelabelling) {
+  EXPECT_EQ(LabellingVariation({0, 0, 1, 1, 2}, {5, 5, 3, 3, 0}), 0.0);
+  EXPECT_GT(LabellingVariation({0, 0, 1, 1, 2}, {5, 5, 3, 0, 0}), 0.1);
 }
 
-TEST(Labelling, VariationOfInformationKnownValue) {
+TEST(Labelling, LabellingVariationKnownValue) {
   // Two halves vs one cluster: VI = H(A) = log 2.
-  EXPECT_NEAR(VariationOfInformation({0, 0, 1, 1}, {0, 0, 0, 0}), std::log(2.0), 1e-12);
+  EXPECT_NEAR(LabellingVariation({0, 0, 1, 1}, {0, 0, 0, 0}), std::log(2.0), 1e-12);
   // -1 is one more class over the entries where either labelling has a cluster.
-  EXPECT_NEAR(VariationOfInformation({0, 0, -1, -1, -1}, {0, 0, 0, 0, -1}), std::log(2.0), 1e-12);
+  EXPECT_NEAR(LabellingVariation({0, 0, -1, -1, -1}, {0, 0, 0, 0, -1}), std::log(2.0), 1e-12);
 }
 
 TEST(Labelling, StaticIsTheClusterWithMostObservations) {
