@@ -20,5 +20,7 @@ Command AddEvalCommand(CLI::App& app);
 /// `cslam synth`: generates a synthetic ground-truth sequence (system/synthetic_scene.h).
 Command AddSynthCommand(CLI::App& app);
 Command AddRunCommand(CLI::App& app);
+/// `cslam demo`: the embedded synthetic default.
+Command AddDemoCommand(CLI::App& app);
 
 }  // namespace cslam::apps

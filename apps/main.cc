@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
 
   std::vector<cslam::apps::Command> commands = {
+      cslam::apps::AddDemoCommand(app),
       cslam::apps::AddRunCommand(app),
       cslam::apps::AddSynthCommand(app),
       cslam::apps::AddEvalCommand(app),

@@ -97,9 +97,11 @@ void PrepareOutputFolder(const std::string& out) {
 void AttachLogFile(const std::string& path) {
   auto sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>(path, true);
   sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%n] [%l] %v");
-  spdlog::default_logger()->sinks().push_back(sink);
+  // apply_all holds the registry lock: fetch the default logger before, not inside it.
+  const auto def = spdlog::default_logger();
+  def->sinks().push_back(sink);
   spdlog::apply_all([&](const std::shared_ptr<spdlog::logger>& l) {
-    if (l != spdlog::default_logger()) l->sinks().push_back(sink);
+    if (l != def) l->sinks().push_back(sink);
   });
 }
 
