@@ -144,30 +144,40 @@ FrameItem ReadFrame(const RunInput& input, int index, double* read_ms) {
   return item;
 }
 
-PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
-                        const std::atomic<bool>* stop, const ProgressCallback& progress) {
-  PipelineResult out;
+// Reads and tracks the frames in order on the calling thread; `after_frame(f)` runs once
+// frame f is tracked. Ends at the last frame, a stop request or a read failure (recorded in
+// `out`: what was tracked before it is kept). Returns the milliseconds spent decoding.
+double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
+                    const ProgressCallback& progress, TrackingStage* tracking,
+                    PipelineResult* out, const std::function<void(int)>& after_frame) {
   const int n = input.num_frames();
-  TrackingStage tracking(input, options.frontend);
   double read_ms = 0;
   for (int f = 0; f < n; ++f) {
     if (StopRequested(stop)) {
-      out.interrupted = true;
+      out->interrupted = true;
       break;
     }
     FrameItem item;
     try {
       item = ReadFrame(input, f, &read_ms);
     } catch (...) {
-      // Keep what was tracked so far: the caller writes it, then reports the error.
-      out.error = std::current_exception();
+      out->error = std::current_exception();
       break;
     }
-    if (auto s = tracking.Process(f, item.images ? &*item.images : nullptr))
-      out.frontend_frames.push_back(*s);
-    out.frames_processed = f + 1;
+    if (auto s = tracking->Process(f, item.images ? &*item.images : nullptr))
+      out->frontend_frames.push_back(*s);
+    out->frames_processed = f + 1;
+    if (after_frame) after_frame(f);
     if (progress) progress(f + 1, n);
   }
+  return read_ms;
+}
+
+PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
+                        const std::atomic<bool>* stop, const ProgressCallback& progress) {
+  PipelineResult out;
+  TrackingStage tracking(input, options.frontend);
+  const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, {});
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
   if (out.frames_processed == 0) return out;
   BackendStage backend(input.camera, options);
@@ -181,33 +191,15 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
 PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions& options,
                                    const std::atomic<bool>* stop, const ProgressCallback& progress) {
   PipelineResult out;
-  const int n = input.num_frames();
   TrackingStage tracking(input, options.frontend);
   BackendStage backend(input.camera, options);
-  double read_ms = 0;
   int last_end = 0;
-  for (int f = 0; f < n; ++f) {
-    if (StopRequested(stop)) {
-      out.interrupted = true;
-      break;
-    }
-    FrameItem item;
-    try {
-      item = ReadFrame(input, f, &read_ms);
-    } catch (...) {
-      // Keep what was tracked so far: the caller writes it, then reports the error.
-      out.error = std::current_exception();
-      break;
-    }
-    if (auto s = tracking.Process(f, item.images ? &*item.images : nullptr))
-      out.frontend_frames.push_back(*s);
-    out.frames_processed = f + 1;
+  const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, [&](int f) {
     if (auto w = DueWindow(f + 1, options.online)) {
       out.windows.push_back(backend.Process(tracking.table().Slice(*w), *w));
       last_end = w->end;
     }
-    if (progress) progress(f + 1, n);
-  }
+  });
   if (auto w = FinalWindow(out.frames_processed, last_end, options.online); w && !out.interrupted)
     out.windows.push_back(backend.Process(tracking.table().Slice(*w), *w));
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
