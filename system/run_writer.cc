@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <map>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -135,19 +136,23 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     RenderTrajectory cam{"camera", {}, -1, false};
     for (const Pose& p : camera.poses) cam.positions.push_back(p.translation());
     trajs.push_back(cam);
+    // Draw each cluster's landmark centroid rather than its frame origin, which can lie
+    // anywhere (it is the camera frame at the cluster's first sighting). One pass over the
+    // landmarks gathers every cluster's centroid.
+    std::map<int, std::pair<Eigen::Vector3d, int>> centroids;
+    for (int l : map.Landmarks()) {
+      const int id = map.ClusterOf(l);
+      if (id < 1) continue;
+      auto& [sum, n] = centroids.try_emplace(id, Eigen::Vector3d::Zero(), 0).first->second;
+      sum += *map.PositionInCluster(l);
+      ++n;
+    }
     for (const auto& [id, c] : map.clusters()) {
       if (c.world_from_cluster.size() < 2) continue;
       RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
-      // Draw the cluster's landmark centroid rather than its frame origin, which can lie
-      // anywhere (it is the camera frame at the cluster's first sighting).
       Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      int n = 0;
-      for (int l : map.Landmarks())
-        if (map.ClusterOf(l) == id) {
-          centroid += *map.PositionInCluster(l);
-          ++n;
-        }
-      if (n > 0) centroid /= n;
+      if (const auto it = centroids.find(id); it != centroids.end() && it->second.second > 0)
+        centroid = it->second.first / it->second.second;
       for (const auto& [f, pose] : c.world_from_cluster) t.positions.push_back(pose * centroid);
       trajs.push_back(t);
     }
