@@ -136,6 +136,13 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     RenderTrajectory cam{"camera", {}, -1, false};
     for (const Pose& p : camera.poses) cam.positions.push_back(p.translation());
     trajs.push_back(cam);
+    // Clusters are plotted when they stay within this distance of the camera's start: the
+    // camera's own extent plus a margin for objects seen far ahead.
+    const Eigen::Vector3d start =
+        cam.positions.empty() ? Eigen::Vector3d::Zero() : cam.positions.front();
+    double plot_radius_m = 100.0;
+    for (const auto& p : cam.positions)
+      plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
     // Draw each cluster's landmark centroid rather than its frame origin, which can lie
     // anywhere (it is the camera frame at the cluster's first sighting). One pass over the
     // landmarks gathers every cluster's centroid.
@@ -154,6 +161,17 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
       if (const auto it = centroids.find(id); it != centroids.end() && it->second.second > 0)
         centroid = it->second.first / it->second.second;
       for (const auto& [f, pose] : c.world_from_cluster) t.positions.push_back(pose * centroid);
+      // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
+      // out of the plot and say so (its trajectory file is still written).
+      bool diverged = false;
+      for (const auto& p : t.positions)
+        diverged |= !p.allFinite() || (p - start).norm() > plot_radius_m;
+      if (diverged) {
+        log->warn("render/trajectory.png: cluster {} left out, it strays more than {:.0f} m from "
+                  "the camera's path",
+                  id, plot_radius_m);
+        continue;
+      }
       trajs.push_back(t);
     }
     try {
