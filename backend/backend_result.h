@@ -13,7 +13,10 @@ struct IterationDiagnostics {
   int num_clusters = 0;          ///< after consensus and the minimum-size rule
   double vi_to_previous = 0.0;   ///< variation of information to the previous labelling
   double chi2 = 0.0;
-  double clustering_ms = 0.0;    ///< motion distance + HAC + consensus
+  int reassigned = 0;            ///< model assignment [ours]: landmarks moved to another model
+  int outliers = 0;              ///< model assignment: landmarks no model explained (re-clustered)
+  int merges = 0;                ///< model assignment: clusters merged into another
+  double clustering_ms = 0.0;    ///< motion distance + HAC + consensus (or model assignment)
   double estimation_ms = 0.0;    ///< shape initialisation + bundle adjustment
 };
 

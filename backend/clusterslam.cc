@@ -59,6 +59,7 @@ void ClusterSlamOptions::Check() const {
   hac.Check();
   consensus.Check();
   motion.Check();
+  assignment.Check();
   CheckOption(max_iterations >= 1, "clusterslam.max_iterations", "must be >= 1", max_iterations);
   CheckOption(refine_half_window >= 0, "clusterslam.refine_half_window", "must be >= 0 frames",
               refine_half_window);
@@ -77,12 +78,25 @@ void ClusterSlamOptions::Load(OptionsReader& reader) {
   OptionsReader m = reader.Section("motion");
   motion.Load(m);
   m.Finish();
+  OptionsReader a = reader.Section("assignment");
+  assignment.Load(a);
+  a.Finish();
   std::string name = ToString(ablation);
   reader.Read("ablation", &name);
   ablation = ParseAblation(name, reader.Where("ablation"));
   reader.Read("max_iterations", &max_iterations);
   reader.Read("refine_half_window", &refine_half_window);
 }
+
+namespace {
+std::vector<int> ObservationCounts(const TrackletTable& table, FrameRange range) {
+  std::vector<int> observations(table.num_landmarks(), 0);
+  for (int l : table.LandmarksIn(range))
+    observations[l] = static_cast<int>(table.ObservationsOf(l, range).size());
+  return observations;
+}
+
+}  // namespace
 
 std::vector<int> ClusterLandmarks(const TrackletTable& table, const PointTracks& tracks,
                                   FrameRange range, const ClusterSlamOptions& options,
@@ -97,11 +111,39 @@ std::vector<int> ClusterLandmarks(const TrackletTable& table, const PointTracks&
   }
   const std::vector<int> consensus =
       ConsensusLabels(chunk_labels, table.num_landmarks(), options.consensus, summary);
-  std::vector<int> observations(table.num_landmarks(), 0);
-  for (int l : table.LandmarksIn(range))
-    observations[l] = static_cast<int>(table.ObservationsOf(l, range).size());
-  return StaticFirstLabels(consensus, observations, previous);
+  return StaticFirstLabels(consensus, ObservationCounts(table, range), previous);
 }
+
+namespace {
+
+// Iterations >= 2 with the model assignment: reassign, merge, and re-cluster the outliers
+// among themselves with Eq. 1 + HAC (a strong image prior: what is left is moving objects,
+// told apart by where they are in the image).
+std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTracks& raw,
+                                    FrameRange range, const std::vector<int>& labels,
+                                    const MotionEstimate& estimate,
+                                    const ClusterSlamOptions& options,
+                                    IterationDiagnostics* diag) {
+  const ModelAssignment a = AssignToMotionModels(raw, labels, estimate, options.assignment);
+  std::vector<int> next = a.labels;
+  diag->reassigned = a.reassigned;
+  diag->outliers = static_cast<int>(a.outliers.size());
+  diag->merges = a.merges;
+  if (static_cast<int>(a.outliers.size()) >= options.assignment.min_outlier_cluster) {
+    PointTracks outliers(raw.size());
+    for (int l : a.outliers) outliers[l] = raw[l];
+    ClusterSlamOptions o = options;
+    o.distance.alpha = options.assignment.outlier_alpha;
+    o.consensus.min_cluster_size = options.assignment.min_outlier_cluster;
+    const std::vector<int> groups = ClusterLandmarks(table, outliers, range, o, nullptr);
+    const int base = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
+    for (int l : a.outliers)
+      if (groups[l] >= 0) next[l] = base + groups[l];
+  }
+  return StaticFirstLabels(next, ObservationCounts(table, range), &labels);
+}
+
+}  // namespace
 
 BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
                              FrameRange range, const ClusterSlamOptions& options) {
@@ -118,15 +160,19 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
   BackendResult result;
   result.method = "clusterslam";
 
-  PointTracks tracks = BackProjectTracks(table, camera, range);
+  const PointTracks raw = BackProjectTracks(table, camera, range);
+  PointTracks tracks = raw;
   std::vector<int> labels;
   for (int k = 1; k <= opts.max_iterations; ++k) {
     IterationDiagnostics diag;
     diag.iteration = k;
     Timer timer;
     ConsensusSummary consensus;
+    const bool assign = opts.assignment.enabled && !labels.empty();
     std::vector<int> next =
-        ClusterLandmarks(table, tracks, range, opts, labels.empty() ? nullptr : &labels, &consensus);
+        assign ? AssignAndRecluster(table, raw, range, labels, result.estimate, opts, &diag)
+               : ClusterLandmarks(table, tracks, range, opts, labels.empty() ? nullptr : &labels,
+                                  &consensus);
     diag.clustering_ms = timer.ElapsedMs();
     diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
     diag.vi_to_previous = labels.empty() ? 0.0 : LabellingVariation(labels, next);
@@ -144,11 +190,18 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
     diag.estimation_ms = timer.ElapsedMs();
     diag.chi2 = result.estimate.chi2;
     result.iterations.push_back(diag);
-    log->info("clusterslam iteration {}: {} clusters (IVC {} sweeps{}), VI {:.4f}, chi2 {:.1f}, "
-              "clustering {:.1f} ms, estimation {:.1f} ms",
-              k, diag.num_clusters, consensus.iterations, consensus.converged ? "" : ", not stable",
-              diag.vi_to_previous, diag.chi2, diag.clustering_ms, diag.estimation_ms);
-    if (k < opts.max_iterations)
+    if (assign)
+      log->info("clusterslam iteration {}: {} clusters ({} reassigned, {} outliers re-clustered, "
+                "{} merges), VI {:.4f}, chi2 {:.1f}, assignment {:.1f} ms, estimation {:.1f} ms",
+                k, diag.num_clusters, diag.reassigned, diag.outliers, diag.merges,
+                diag.vi_to_previous, diag.chi2, diag.clustering_ms, diag.estimation_ms);
+    else
+      log->info("clusterslam iteration {}: {} clusters (IVC {} sweeps{}), VI {:.4f}, chi2 {:.1f}, "
+                "clustering {:.1f} ms, estimation {:.1f} ms",
+                k, diag.num_clusters, consensus.iterations,
+                consensus.converged ? "" : ", not stable", diag.vi_to_previous, diag.chi2,
+                diag.clustering_ms, diag.estimation_ms);
+    if (k < opts.max_iterations && !opts.assignment.enabled)
       tracks = RefineTracks(table, camera, range, result.estimate, opts.refine_half_window);
   }
   // The estimator owns landmark_cluster, but the loop's labelling is the reference.

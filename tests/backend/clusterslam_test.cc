@@ -40,11 +40,19 @@ testing::TestScene MultiBody(int num_moving, int frames, double noise_px, unsign
                             noise_px, 1.5, seed + 100);
 }
 
+// The paper's loop: Eq. 1 with its α, re-clustered every iteration (no model assignment).
+ClusterSlamOptions PaperIndoor() {
+  ClusterSlamOptions o = ClusterSlamOptions::Indoor();
+  o.distance.alpha = 4e-4;
+  o.assignment.enabled = false;
+  return o;
+}
+
 TEST(ClusterSlam, TwoRigidBodiesWithoutNoiseGiveExactlyTwoClusters) {
   const auto s = MultiBody(1, 150, 0.0, 1);
   const FrameRange range{0, 150};
   const PointTracks tracks = BackProjectTracks(s.table, s.camera, range);
-  const ClusterSlamOptions o = ClusterSlamOptions::Indoor();
+  const ClusterSlamOptions o = PaperIndoor();
   ASSERT_EQ(ChunksOf(range, o.consensus).size(), 2u);
   const auto labels = ClusterLandmarks(s.table, tracks, range, o, nullptr);
   EXPECT_EQ(LabellingVariation(labels, s.truth), 0.0);
@@ -54,7 +62,7 @@ TEST(ClusterSlam, TwoRigidBodiesWithoutNoiseGiveExactlyTwoClusters) {
 
 TEST(ClusterSlam, LoopConvergesToTheTruePartitionOnANoisyMultiBodyScene) {
   const auto s = MultiBody(2, 150, 0.5, 2);
-  const BackendResult r = RunClusterSlam(s.table, s.camera, {0, 150}, ClusterSlamOptions::Indoor(),
+  const BackendResult r = RunClusterSlam(s.table, s.camera, {0, 150}, PaperIndoor(),
                                          testing::FakeEstimateMotions);
   const auto& labels = r.estimate.landmark_cluster;
   EXPECT_GE(testing::ClusteringAccuracy(labels, s.truth), 0.97);
@@ -75,7 +83,7 @@ TEST(ClusterSlam, RefinedPositionsRecoverWhatTheFirstIterationMisses) {
   for (unsigned seed : {4u, 5u}) {
     const auto s = MultiBody(2, 150, 1.0, seed);
     const FrameRange range{0, 150};
-    ClusterSlamOptions o = ClusterSlamOptions::Indoor();
+    ClusterSlamOptions o = PaperIndoor();
     const auto first = ClusterLandmarks(s.table, BackProjectTracks(s.table, s.camera, range),
                                         range, o, nullptr);
     ASSERT_LT(testing::ClusteringAccuracy(first, s.truth), 0.95) << "scene too easy, seed " << seed;
