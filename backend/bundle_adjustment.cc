@@ -35,6 +35,16 @@ RobustKernel ParseRobustKernel(const std::string& text, const std::string& key) 
   throw ConfigError(key + ": must be one of none, huber, dcs, got '" + text + "'");
 }
 
+std::string ToString(SparseSolver solver) {
+  return solver == SparseSolver::kSchur ? "schur" : "normal_cholesky";
+}
+
+SparseSolver ParseSparseSolver(const std::string& text, const std::string& key) {
+  if (text == "schur") return SparseSolver::kSchur;
+  if (text == "normal_cholesky") return SparseSolver::kNormalCholesky;
+  throw ConfigError(key + ": must be one of normal_cholesky, schur, got '" + text + "'");
+}
+
 std::string ToString(BaCoupling coupling) {
   switch (coupling) {
     case BaCoupling::kDecoupled:
@@ -80,6 +90,9 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("num_threads", &num_threads);
   reader.Read("min_observations_per_pose", &min_observations_per_pose);
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
+  std::string solver_text = ToString(sparse_solver);
+  reader.Read("sparse_solver", &solver_text);
+  sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
 }
 
 namespace {
@@ -249,7 +262,10 @@ class Solve {
     so.minimizer_progress_to_stdout = false;
     const bool sparse = num_poses_ >= options_.sparse_schur_min_poses &&
                         ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
-    so.linear_solver_type = sparse ? ceres::SPARSE_SCHUR : ceres::DENSE_SCHUR;
+    so.linear_solver_type = !sparse ? ceres::DENSE_SCHUR
+                            : options_.sparse_solver == SparseSolver::kSchur
+                                ? ceres::SPARSE_SCHUR
+                                : ceres::SPARSE_NORMAL_CHOLESKY;
     if (sparse) so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
     for (double* p : points_) ordering->AddElementToGroup(p, 0);

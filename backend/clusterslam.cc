@@ -1,6 +1,7 @@
 #include "backend/clusterslam.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "backend/labelling.h"
 #include "backend/point_tracks.h"
@@ -61,6 +62,10 @@ void ClusterSlamOptions::Check() const {
   motion.Check();
   assignment.Check();
   CheckOption(max_iterations >= 1, "clusterslam.max_iterations", "must be >= 1", max_iterations);
+  CheckOption(std::isfinite(convergence_vi) && convergence_vi >= 0, "clusterslam.convergence_vi",
+              "must be >= 0 (nats)", convergence_vi);
+  CheckOption(intermediate_ba_iterations >= 0, "clusterslam.intermediate_ba_iterations",
+              "must be >= 0 (0 = shape initialisation only)", intermediate_ba_iterations);
   CheckOption(refine_half_window >= 0, "clusterslam.refine_half_window", "must be >= 0 frames",
               refine_half_window);
 }
@@ -86,6 +91,9 @@ void ClusterSlamOptions::Load(OptionsReader& reader) {
   ablation = ParseAblation(name, reader.Where("ablation"));
   reader.Read("max_iterations", &max_iterations);
   reader.Read("refine_half_window", &refine_half_window);
+  reader.Read("convergence_vi", &convergence_vi);
+  reader.Read("intermediate_ba_iterations", &intermediate_ba_iterations);
+  reader.Read("warm_start", &warm_start);
 }
 
 namespace {
@@ -147,7 +155,12 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
 
 BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
                              FrameRange range, const ClusterSlamOptions& options) {
-  return RunClusterSlam(table, camera, range, options, EstimateMotions);
+  return RunClusterSlam(
+      table, camera, range, options,
+      [](const TrackletTable& t, const StereoCamera& c, FrameRange r, const std::vector<int>& l,
+         const MotionEstimationOptions& o, const MotionEstimate* w) {
+        return EstimateMotions(t, c, r, l, o, w);
+      });
 }
 
 BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
@@ -163,6 +176,7 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
   const PointTracks raw = BackProjectTracks(table, camera, range);
   PointTracks tracks = raw;
   std::vector<int> labels;
+  bool adjusted = false;  // does result.estimate include the bundle adjustment?
   for (int k = 1; k <= opts.max_iterations; ++k) {
     IterationDiagnostics diag;
     diag.iteration = k;
@@ -176,9 +190,9 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
     diag.clustering_ms = timer.ElapsedMs();
     diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
     diag.vi_to_previous = labels.empty() ? 0.0 : LabellingVariation(labels, next);
-    const bool stable = !labels.empty() && diag.vi_to_previous == 0.0;
+    const bool stable = !labels.empty() && diag.vi_to_previous <= opts.convergence_vi;
     if (stable) {
-      // Same partition as the estimate we already have: re-estimating would repeat it.
+      // (Nearly) the partition we already have an estimate for: keep it.
       diag.chi2 = result.estimate.chi2;
       result.iterations.push_back(diag);
       log->info("clusterslam iteration {}: {} clusters, labelling stable", k, diag.num_clusters);
@@ -186,7 +200,16 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
     }
     labels = std::move(next);
     timer.Reset();
-    result.estimate = estimator(table, camera, range, labels, opts.motion);
+    MotionEstimationOptions motion = opts.motion;
+    int& ba_iterations = motion.bundle_adjustment.max_iterations;
+    if (k < opts.max_iterations && opts.intermediate_ba_iterations < ba_iterations) {
+      ba_iterations = opts.intermediate_ba_iterations;
+      if (ba_iterations == 0) motion.run_bundle_adjustment = false;
+    }
+    result.estimate = estimator(table, camera, range, labels, motion,
+                                opts.warm_start && k > 1 ? &result.estimate : nullptr);
+    adjusted = motion.run_bundle_adjustment &&
+               ba_iterations == opts.motion.bundle_adjustment.max_iterations;
     diag.estimation_ms = timer.ElapsedMs();
     diag.chi2 = result.estimate.chi2;
     result.iterations.push_back(diag);
@@ -203,6 +226,15 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
                 diag.clustering_ms, diag.estimation_ms);
     if (k < opts.max_iterations && !opts.assignment.enabled)
       tracks = RefineTracks(table, camera, range, result.estimate, opts.refine_half_window);
+  }
+  if (!adjusted && opts.motion.run_bundle_adjustment) {
+    const Timer timer;
+    result.estimate = estimator(table, camera, range, labels, opts.motion,
+                                opts.warm_start ? &result.estimate : nullptr);
+    result.iterations.back().estimation_ms += timer.ElapsedMs();
+    result.iterations.back().chi2 = result.estimate.chi2;
+    log->info("clusterslam: bundle adjustment of the final labelling, chi2 {:.1f}, {:.1f} ms",
+              result.estimate.chi2, timer.ElapsedMs());
   }
   // The estimator owns landmark_cluster, but the loop's labelling is the reference.
   if (result.estimate.landmark_cluster.empty()) result.estimate.landmark_cluster = labels;

@@ -59,6 +59,18 @@ struct ClusterSlamOptions {
   ModelAssignmentOptions assignment;
   ClusterSlamAblation ablation = ClusterSlamAblation::kNone;
   int max_iterations = 5;        ///< k_max of Algorithm 1 [ours]
+  /// [ours] the loop stops when the labelling changed by at most this variation of
+  /// information (0 = only when identical up to relabelling): a few ambiguous landmarks
+  /// flipping between two models should not cost more full estimations.
+  double convergence_vi = 0.02;
+  /// [ours] Levenberg–Marquardt iterations of the bundle adjustment in the iterations whose
+  /// estimate only feeds the next labelling (0: shape initialisation only); the final
+  /// labelling always gets motion.bundle_adjustment.max_iterations. The adjustment is most of
+  /// the backend's time, and the model assignment needs the motions only roughly converged.
+  int intermediate_ba_iterations = 50;
+  /// [ours] iterations >= 2 start the static cluster from the previous estimate
+  /// (EstimateMotions' warm_start) instead of a fresh shape initialisation.
+  bool warm_start = true;
   int refine_half_window = 2;    ///< [ours] frames each side averaged by RefineTracks; 0 = the
                                  ///< raw back-projections in every iteration
 
@@ -70,14 +82,16 @@ struct ClusterSlamOptions {
   ClusterSlamOptions Effective() const;
   void Check() const;
   /// Keys: distance, hac, consensus, motion, assignment (sections), ablation, max_iterations,
+  /// convergence_vi, intermediate_ba_iterations, warm_start,
   /// refine_half_window.
   void Load(OptionsReader& reader);
 };
 
 /// The motion estimation step, injectable for tests; the default is EstimateMotions.
+/// The last argument is the previous iteration's estimate (null in the first), for a warm start.
 using MotionEstimator = std::function<MotionEstimate(
     const TrackletTable&, const StereoCamera&, FrameRange, const std::vector<int>&,
-    const MotionEstimationOptions&)>;
+    const MotionEstimationOptions&, const MotionEstimate*)>;
 
 /// Runs Algorithm 1 on the observations of `range`. Result labels: 0 static, 1..K moving,
 /// -1 not clustered (too few observations or a cluster below the minimum size). Stops when

@@ -1,5 +1,6 @@
 #include "backend/motion_estimation.h"
 
+#include <algorithm>
 #include <limits>
 #include <map>
 
@@ -42,7 +43,8 @@ void MotionEstimationOptions::Load(OptionsReader& reader) {
 
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
-                               const MotionEstimationOptions& options) {
+                               const MotionEstimationOptions& options,
+                               const MotionEstimate* warm_start) {
   MotionEstimate est;
   est.range = range;
   const int n = table.num_landmarks();
@@ -57,7 +59,36 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
     if (landmark_cluster[i] >= 0 && !table.ObservationsOf(i, range).empty())
       members[landmark_cluster[i]].push_back(i);
 
+  const bool warm = warm_start && warm_start->range == range &&
+                    static_cast<int>(warm_start->world_from_cam.size()) == range.size() &&
+                    std::all_of(warm_start->world_from_cam.begin(), warm_start->world_from_cam.end(),
+                                [](const Pose& p) { return p.matrix().allFinite(); });
   for (const auto& [label, landmarks] : members) {
+    if (label == 0 && warm) {
+      est.world_from_cam = warm_start->world_from_cam;
+      const int known = static_cast<int>(warm_start->landmark_cluster.size());
+      for (int l : landmarks) {
+        Eigen::Vector3d point = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+        if (l < known && warm_start->landmark_cluster[l] == 0 &&
+            warm_start->landmark_in_cluster[l].allFinite()) {
+          point = warm_start->landmark_in_cluster[l];
+        } else {
+          Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+          int count = 0;
+          for (const StereoObservation& o : table.ObservationsOf(l, range)) {
+            Eigen::Vector3d p;
+            if (!camera.BackProject<double>(o.x, &p)) continue;
+            sum += est.world_from_cam[o.frame - range.begin] * p;
+            ++count;
+          }
+          if (count > 0) point = sum / count;
+        }
+        if (!point.allFinite()) continue;
+        est.landmark_cluster[l] = 0;
+        est.landmark_in_cluster[l] = point;
+      }
+      continue;
+    }
     const ClusterShape shape = InitializeClusterShape(
         table, camera, range, landmarks, options.shape_init, options.point_to_point_icp);
     for (size_t k = 0; k < landmarks.size(); ++k) {

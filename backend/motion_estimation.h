@@ -58,8 +58,16 @@ struct MotionEstimationOptions {
 /// range.begin. Landmarks without an observation in the range, or without a position (never a
 /// positive disparity), come back with label -1. Without any static landmark the camera stays
 /// at the identity (its motion is unobservable) and a warning is logged.
+///
+/// `warm_start` (may be null) [ours]: a previous estimate over the same range. The static
+/// cluster then starts from its camera poses and static landmark positions (new static
+/// landmarks at the mean of their back-projections through those poses) instead of the
+/// frame-to-frame shape initialisation: the outer loop's labellings differ by a few
+/// landmarks between iterations, and the static adjustment — most of the time — converges
+/// in a few iterations from there instead of removing the initialisation's drift again.
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
-                               const MotionEstimationOptions& options);
+                               const MotionEstimationOptions& options,
+                               const MotionEstimate* warm_start = nullptr);
 
 }  // namespace cslam

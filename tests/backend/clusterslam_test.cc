@@ -45,6 +45,7 @@ ClusterSlamOptions PaperIndoor() {
   ClusterSlamOptions o = ClusterSlamOptions::Indoor();
   o.distance.alpha = 4e-4;
   o.assignment.enabled = false;
+  o.convergence_vi = 0.0;
   return o;
 }
 

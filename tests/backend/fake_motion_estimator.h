@@ -11,7 +11,8 @@ namespace cslam::testing {
 
 inline MotionEstimate FakeEstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                           FrameRange range, const std::vector<int>& labels,
-                                          const MotionEstimationOptions&) {
+                                          const MotionEstimationOptions&,
+                                          const MotionEstimate* = nullptr) {
   MotionEstimate est;
   est.range = range;
   est.landmark_cluster = labels;
