@@ -22,6 +22,8 @@ void ModelAssignmentOptions::Check() const {
               "must be >= 0", merge_slack);
   CheckOption(std::isfinite(outlier_alpha) && outlier_alpha >= 0, "model_assignment.outlier_alpha",
               "must be >= 0", outlier_alpha);
+  CheckOption(min_static_fit >= 0 && min_static_fit <= 1, "model_assignment.min_static_fit",
+              "must be in [0, 1]", min_static_fit);
   CheckOption(min_outlier_cluster >= 1, "model_assignment.min_outlier_cluster", "must be >= 1",
               min_outlier_cluster);
 }
@@ -36,6 +38,7 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("merge_slack", &merge_slack);
   reader.Read("outlier_alpha", &outlier_alpha);
   reader.Read("min_outlier_cluster", &min_outlier_cluster);
+  reader.Read("min_static_fit", &min_static_fit);
 }
 
 namespace {
@@ -151,6 +154,7 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
   std::map<int, std::map<int, Under>> other;
 
   std::vector<double> cost(models.size());
+  std::vector<std::pair<double, int>> static_costs;  // (cost under static, landmark), label 0
   for (int l = 0; l < static_cast<int>(tracks.size()); ++l) {
     if (static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
     const int label = l < static_cast<int>(labels.size()) ? labels[l] : -1;
@@ -162,6 +166,7 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
       if (cost[m] < 0) continue;
       const double score = cost[m] + (models[m].label != 0 ? options.static_margin : 0.0);
       if (score < best_score) best_score = score, best = models[m].label, best_cost = cost[m];
+      if (label == 0 && models[m].label == 0) static_costs.emplace_back(cost[m], l);
       if (label < 0) continue;
       Under& u = models[m].label == label ? own[label] : other[label][models[m].label];
       ++u.covered;
@@ -177,6 +182,21 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
     }
     if (best != label) ++out.reassigned;
     out.labels[l] = best;
+  }
+
+  // A static motion that most static landmarks do not fit is wrong: trim, do nothing else.
+  int static_fits = 0;
+  for (const auto& [c, l] : static_costs) static_fits += c <= options.fit_threshold;
+  if (!static_costs.empty() &&
+      static_fits < options.min_static_fit * static_cast<double>(static_costs.size())) {
+    out = ModelAssignment{};
+    out.labels = labels;
+    out.labels.resize(tracks.size(), -1);
+    out.trimmed = true;
+    std::sort(static_costs.begin(), static_costs.end());
+    for (size_t k = static_costs.size() / 2; k < static_costs.size(); ++k)
+      out.labels[static_costs[k].second] = -1;
+    return out;
   }
 
   // Merges: p into the model q that explains p's landmarks about as well as p's own; only
