@@ -45,6 +45,10 @@ struct ModelAssignmentOptions {
   /// the round only trims the static cluster to its better-fitting half (the rest unlabelled)
   /// so the next estimate follows the static majority, instead of declaring most of the
   /// scene outliers.
+  /// Thresholds (fit, margin, merge slack) are multiplied by the median static landmark's
+  /// cost under the static motion when that is above 1: the costs assume the keypoint
+  /// covariances are right, which a real frontend's are only roughly.
+  bool scale_by_static_median = false;  ///< off: measured no change on KITTI 0005, worse on synthetic
   double min_static_fit = 0.0;  ///< 0 = off: measured to cost accuracy (docs/benchmarks.md)
 
   void Check() const;
@@ -57,6 +61,7 @@ struct ModelAssignment {
   std::vector<int> outliers;  ///< landmark ids no model explains (labels[l] = -1 for them)
   int reassigned = 0;         ///< landmarks whose label changed to another model
   int merges = 0;             ///< clusters merged into another
+  double cost_scale = 1.0;    ///< the scale applied to the thresholds (scale_by_static_median)
   bool trimmed = false;       ///< the static motion fitted too few of its landmarks: this
                               ///< round only trimmed the static cluster (see min_static_fit)
 };
