@@ -138,6 +138,9 @@ SyntheticRenderer::SyntheticRenderer(const SceneGeometry& geometry, const Stereo
   camera_.Check();
   CheckOption(camera_.width > 0 && camera_.height > 0, "camera.width", "must be > 0 (image size)",
               camera_.width);
+  if (geometry.bodies.size() >= kNoObjectId)
+    throw ConfigError("synthetic renderer: at most " + std::to_string(kNoObjectId - 1) +
+                      " bodies fit the 16-bit object ids, got " + std::to_string(geometry.bodies.size()));
   impl_ = std::make_unique<Impl>(camera_.width * options_.supersample,
                                  camera_.height * options_.supersample);
 
@@ -196,8 +199,12 @@ SyntheticRenderer::SyntheticRenderer(const SceneGeometry& geometry, const Stereo
 
 SyntheticRenderer::~SyntheticRenderer() {
   if (impl_ && !impl_->textures.empty()) {
-    impl_->context.MakeCurrent();
-    glDeleteTextures(static_cast<GLsizei>(impl_->textures.size()), impl_->textures.data());
+    try {
+      impl_->context.MakeCurrent();
+      glDeleteTextures(static_cast<GLsizei>(impl_->textures.size()), impl_->textures.data());
+    } catch (const Error&) {
+      // The context goes away with impl_ anyway, and its textures with it.
+    }
   }
 }
 
