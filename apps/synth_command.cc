@@ -5,6 +5,7 @@
 
 #include "apps/command.h"
 #include "core/timer.h"
+#include "system/synthetic_image_io.h"
 #include "system/synthetic_io.h"
 #include "system/synthetic_scene.h"
 
@@ -14,6 +15,9 @@ Command AddSynthCommand(CLI::App& app) {
   struct Args {
     SyntheticOptions options;
     std::string out;
+    bool images = false;
+    SyntheticRenderOptions render;
+    double texture_period_m = 0;  // 0: the preset's
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand(
@@ -34,17 +38,40 @@ Command AddSynthCommand(CLI::App& app) {
                   "multiplies the preset's landmark density")
       ->capture_default_str();
   sub->add_option("--out", args->out, "output folder")->required();
+  sub->add_flag("--images", args->images,
+                "also render the stereo images and object ids (KITTI odometry layout under "
+                "sequences/00, poses/00.txt)");
+  sub->add_option("--texture-period", args->texture_period_m,
+                  "with --images: metres one texture tile spans (0: 3 outdoor, 1 indoor)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sub->add_option("--supersample", args->render.supersample,
+                  "with --images: render k times larger and filter down (1-4)")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
 
   return {sub, [args]() {
             const Timer timer;
             const SyntheticSequence seq = GenerateSynthetic(args->options);
             WriteSynthetic(seq, args->out);
+            const double written_s = timer.ElapsedS();
             std::printf(
                 "%s: %d frames (%.1f s), %zu landmarks, %zu observations, %d moving objects, "
                 "camera travel %.1f m; generated and written to %s in %.2f s.\n",
                 seq.name.c_str(), seq.num_frames(), seq.timestamps.back(),
                 seq.landmark_object.size(), seq.observations.num_observations(),
-                seq.num_objects() - 1, seq.CameraTravel(), args->out.c_str(), timer.ElapsedS());
+                seq.num_objects() - 1, seq.CameraTravel(), args->out.c_str(), written_s);
+            if (args->images) {
+              const Timer render_timer;
+              SyntheticRenderOptions render = args->render;
+              render.texture_period_m = args->texture_period_m > 0 ? args->texture_period_m
+                                        : args->options.preset == "indoor" ? 1.0
+                                                                            : 3.0;
+              WriteSyntheticImages(seq, args->out, render);
+              std::printf("rendered %d stereo frames %dx%d with object ids into %s in %.2f s.\n",
+                          seq.num_frames(), seq.camera.width, seq.camera.height,
+                          SyntheticImagesDir(args->out).c_str(), render_timer.ElapsedS());
+            }
             return 0;
           }};
 }

@@ -6,6 +6,7 @@
 #include "core/logging.h"
 #include "system/dataset.h"
 #include "system/kitti_odometry_reader.h"
+#include "system/synthetic_image_io.h"
 #include "system/synthetic_io.h"
 
 namespace cslam {
@@ -76,13 +77,12 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
     in.camera = seq.camera;
     in.timestamps = seq.timestamps;
     in.gt_world_from_cam = seq.world_from_cam;
-    const bool has_images = fs::is_directory(fs::path(path) / "image_0") &&
-                            fs::is_regular_file(fs::path(path) / "calib.txt");
-    if (has_images && options.use_images) {
+    if (HasSyntheticImages(path) && options.use_images) {
       in.kind = "synthetic_images";
-      std::unique_ptr<StereoSource> src = std::make_unique<KittiOdometrySource>(path);
+      const std::string images_dir = SyntheticImagesDir(path);
+      std::unique_ptr<StereoSource> src = std::make_unique<KittiOdometrySource>(images_dir);
       if (src->size() < static_cast<int>(in.timestamps.size()))
-        throw InputError((fs::path(path) / "image_0").string(),
+        throw InputError((fs::path(images_dir) / "image_0").string(),
                          "has " + std::to_string(src->size()) + " images but the sequence has " +
                              std::to_string(in.timestamps.size()) + " frames");
       if (src->size() > static_cast<int>(in.timestamps.size()))

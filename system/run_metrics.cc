@@ -9,6 +9,8 @@
 #include "system/box_labels.h"
 #include "system/clustering_metrics.h"
 #include "system/run_writer.h"
+#include "system/synthetic_image_io.h"
+#include "system/synthetic_landmark_truth.h"
 #include "system/trajectory_evaluation.h"
 
 namespace cslam {
@@ -76,12 +78,24 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
   const SyntheticSequence& seq = *input.synthetic;
   const MapState& map = result.map;
   const TrackletTable& table = result.table;
-  // Only replayed tracklets share the generator's landmark ids.
-  if (input.kind != "synthetic") return;
-  const std::vector<int> ids = ClusterableLandmarks(table);
+  // Replayed tracklets share the generator's landmark ids; a frontend's landmarks on rendered
+  // images are labelled by the object-id image under their first keypoint.
+  LandmarkTruth lm_truth;
+  if (input.kind == "synthetic") {
+    lm_truth.object = seq.landmark_object;
+    lm_truth.in_object = seq.landmark_in_object;
+  } else if (input.kind == "synthetic_images") {
+    lm_truth = LabelLandmarksByIdImages(
+        table, seq, [&](int frame) { return ReadObjectIdImage(input.path, frame); });
+  } else {
+    return;
+  }
+  std::vector<int> ids;
+  for (int l : ClusterableLandmarks(table))
+    if (l < static_cast<int>(lm_truth.object.size()) && lm_truth.object[l] >= 0) ids.push_back(l);
   std::vector<int> truth, predicted;
   for (int l : ids) {
-    truth.push_back(seq.landmark_object[l]);
+    truth.push_back(lm_truth.object[l]);
     predicted.push_back(map.ClusterOf(l));
   }
   FillClustering(truth, predicted, m);
@@ -102,7 +116,7 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
       for (size_t k = 0; k < ids.size(); ++k)
         if (truth[k] == obj && predicted[k] == it->second) {
           src.push_back(*map.PositionInCluster(ids[k]));
-          dst.push_back(seq.landmark_in_object[ids[k]]);
+          dst.push_back(lm_truth.in_object[ids[k]]);
         }
       const Pose object_from_cluster = AlignUmeyama(src, dst, false).rigid;
       Trajectory est = ClusterTrajectory(cluster->second, input.timestamps), gt;
@@ -127,7 +141,7 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
     for (const StereoObservation& o : table.ObservationsOf(l)) {
       const auto p = map.WorldPosition(l, o.frame);
       if (!p) continue;
-      se += (*p - seq.LandmarkInWorld(l, o.frame)).squaredNorm();
+      se += (*p - seq.world_from_object[lm_truth.object[l]][o.frame] * lm_truth.in_object[l]).squaredNorm();
       ++n;
     }
   }
