@@ -6,6 +6,7 @@
 #include "apps/run_support.h"
 #include "core/logging.h"
 #include "system/run_input.h"
+#include "system/synthetic_image_io.h"
 #include "system/synthetic_io.h"
 #include "system/synthetic_scene.h"
 
@@ -17,6 +18,7 @@ struct DemoArgs {
   std::string out = "out/demo";
   int seed = 1;
   int frames = 150;
+  bool no_images = false;
   RunFlags flags;
 };
 
@@ -34,6 +36,15 @@ int Demo(const DemoArgs& args) {
   std::printf("demo: generated %s (%d frames, %d landmarks, %d moving cars) in %s\n",
               seq.name.c_str(), seq.num_frames(), seq.observations.num_landmarks(),
               seq.num_objects() - 1, sequence_dir.c_str());
+  if (!args.no_images) {
+    // The stereo images go through the frontend like a real drive; without them the run
+    // replays the generator's tracklets.
+    SyntheticRenderOptions render;
+    render.texture_period_m = 3.0;
+    WriteSyntheticImages(seq, sequence_dir, render);
+    std::printf("demo: rendered %d stereo frames %dx%d\n", seq.num_frames(), seq.camera.width,
+                seq.camera.height);
+  }
 
   RunInput input = OpenRunInput(sequence_dir, args.flags.InputOptionsFor());
   PipelineOptions options = args.flags.Resolve(input);
@@ -57,6 +68,8 @@ Command AddDemoCommand(CLI::App& app) {
   sub->add_option("--out", args->out, "output folder")->capture_default_str();
   sub->add_option("--seed", args->seed, "scene seed")->capture_default_str();
   sub->add_option("--frames", args->frames, "sequence length")->capture_default_str()->check(CLI::Range(30, 2000));
+  sub->add_flag("--no-images", args->no_images,
+                "replay the generator's tracklets instead of rendering images for the frontend");
   args->flags.Register(sub);
   return {sub, [args] { return Demo(*args); }};
 }

@@ -175,6 +175,16 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
     entries.push_back({t.label, TrajectoryColor(t.cluster),
                        t.dashed ? LegendMarker::kDashedLine : LegendMarker::kLine});
   }
+  // An online map can hold dozens of clusters: keep the legend inside the plot, naming the
+  // first entries (camera first) and counting the rest.
+  int left_out = 0;
+  while (entries.size() > 2 && LegendSize(entries).height > plot.height - 24) {
+    entries.pop_back();
+    if (left_out++ == 0) entries.pop_back(), ++left_out;  // room for the summary line
+  }
+  if (left_out > 0)
+    entries.push_back({"+ " + std::to_string(left_out) + " more clusters", cv::Vec3b(150, 150, 150),
+                       LegendMarker::kLine});
   if (!entries.empty()) {
     const cv::Size legend_size = LegendSize(entries);
     DrawLegend(image, entries, EmptiestCorner(image, plot, legend_size, 12, kWhite));

@@ -81,6 +81,30 @@ TEST(TrajectoryPlot, DrawsTheCameraSolidBlackAndGroundTruthDashed) {
   EXPECT_EQ(testing::CountColour(image, BgrForCluster(4), 30), 0);
 }
 
+TEST(TrajectoryPlot, LegendOfSixtyClustersStaysInsideThePlot) {
+  // An online map easily holds dozens of clusters; the legend used to run off the top of
+  // the image over the title.
+  std::vector<RenderTrajectory> scene{{"camera", {}, -1, false}};
+  for (int i = 0; i <= 50; ++i) scene[0].positions.emplace_back(0.0, 0.0, 1.0 * i);
+  for (int c = 1; c <= 60; ++c) {
+    RenderTrajectory t{"cluster " + std::to_string(c), {}, c, false};
+    for (int i = 0; i <= 5; ++i) t.positions.emplace_back(20.0, 0.0, 40.0 + 0.1 * i);
+    scene.push_back(t);
+  }
+  const cv::Mat image = RenderTrajectoryTopView(scene, 800, 600);
+  testing::MaybeSave(image, "trajectory_many.png");
+  // The title band above the plot and the axis band below it hold no legend swatch of any
+  // cluster colour.
+  const cv::Mat top = image(cv::Rect(0, 0, image.cols, 20));
+  const cv::Mat bottom = image(cv::Rect(0, image.rows - 20, image.cols, 20));
+  for (int c = 1; c <= 60; ++c) {
+    EXPECT_EQ(testing::CountColour(top, BgrForCluster(c), 20), 0) << "cluster " << c;
+    EXPECT_EQ(testing::CountColour(bottom, BgrForCluster(c), 20), 0) << "cluster " << c;
+  }
+  // The first clusters are still named in the legend (their colour shows outside the data).
+  EXPECT_GT(testing::CountColour(image, BgrForCluster(1), 20), 20);
+}
+
 TEST(TrajectoryPlot, IsDeterministicAndCanRunOnTwoThreadsAtOnce) {
   const auto scene = Scene();
   const cv::Mat reference = RenderTrajectoryTopView(scene, 500, 400);
