@@ -14,7 +14,7 @@ ASAN_DIR=${ASAN_DIR:-build-asan}
 TSAN_DIR=${TSAN_DIR:-build-tsan}
 ASAN_TESTS=${ASAN_TESTS:-}
 # The threaded pipeline: the in-process pipeline tests and `cslam run` under signals.
-TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|^CliSignal|^CliTrackingLoss'}
+TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|CliSignal|^CliTrackingLoss'}
 TEST_TIMEOUT=${TEST_TIMEOUT:-1500}
 SUPP="$PWD/scripts/sanitizers"
 

@@ -25,6 +25,7 @@ DatasetKind DetectDataset(const std::string& path) {
 std::unique_ptr<StereoSource> OpenStereoSource(const std::string& path, bool color) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "expected a dataset folder; it does not exist");
+  if (!fs::is_directory(path, ec)) throw InputError(path, "expected a dataset folder; it is a file");
   switch (DetectDataset(path)) {
     case DatasetKind::kKittiRaw:
       return std::make_unique<KittiRawSource>(path, color);

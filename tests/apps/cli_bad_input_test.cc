@@ -177,7 +177,7 @@ TEST_F(CliBadInput, UnreadableFolder) {
   // A file where the folder should be (permissions cannot hide a folder from root).
   testing::WriteText(tmp_.path() / "not_a_folder", "x");
   ExpectRejected(Run(tmp_.path() / "not_a_folder"), kExitInputError,
-                 (tmp_.path() / "not_a_folder").string() + ": expected a dataset folder");
+                 (tmp_.path() / "not_a_folder").string() + ": expected a dataset folder; it is a file");
 }
 
 TEST_F(CliBadInput, MissingFolder) {
@@ -253,8 +253,9 @@ class CliConfig : public CliOdometryBadInput {
 };
 
 TEST_F(CliConfig, UnknownKey) {
-  ExpectRejected(RunWithConfig("online:\n  window_frame: 20\n"), kExitConfigError,
-                 config().string() + ": online.window_frame");
+  const auto r = RunWithConfig("online:\n  window_frame: 20\n");
+  ExpectRejected(r, kExitConfigError, config().string() + ": unknown key");
+  EXPECT_THAT(r.err, HasSubstr("online.window_frame"));
 }
 
 TEST_F(CliConfig, WrongType) {
