@@ -13,11 +13,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::array<const char*, 8> kFiles = {"observations.csv", "sequence.txt", "camera.txt",
-                                               "times.txt", "gt_camera.txt", "gt_landmarks.csv",
-                                               "gt_geometry.csv", "gt_objects/1.txt"};
+constexpr std::array<const char*, 9> kFiles = {"observations.csv", "sequence.txt",     "camera.txt",
+                                               "times.txt",        "gt_camera.txt",    "gt_landmarks.csv",
+                                               "gt_geometry.csv",  "gt_objects/0.txt", "gt_objects/1.txt"};
 
-// The pristine files of a 3-frame sequence, by name.
+// The pristine files of a 3-frame sequence, by name (what `cslam synth --preset indoor --seed 1
+// --frames 3 --objects 1 --landmark-density 0.05` writes; the seed corpus is made from it).
 const std::map<std::string, std::string>& Pristine() {
   static const std::map<std::string, std::string> files = [] {
     cslam::SyntheticOptions o;
