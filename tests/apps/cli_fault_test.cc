@@ -33,13 +33,16 @@ std::vector<std::vector<double>> ReadRows(const fs::path& file, size_t width) {
 
 class CliSignal : public ::testing::TestWithParam<int> {
  protected:
-  static constexpr int kFrames = 400;
+  static constexpr int kFrames = 300;
   CliSignal() : tmp_(std::string("cli_signal_") + std::to_string(GetParam())) {
     const auto synth = testing::RunProcess(
         {CSLAM_BINARY, "synth", "--preset", "outdoor", "--seed", "4", "--frames", std::to_string(kFrames),
-         "--landmark-density", "0.5", "--out", (tmp_.path() / "seq").string()},
+         "--landmark-density", "0.3", "--out", (tmp_.path() / "seq").string()},
         tmp_.path() / "synth_logs");
     EXPECT_EQ(synth.exit_code, 0) << synth.err;
+    // One clustering iteration per window: the signal path is what is tested, and the run
+    // must also be quick under the sanitizers.
+    testing::WriteText(tmp_.path() / "config.yaml", "backend:\n  max_iterations: 1\n");
   }
   testing::TempDir tmp_;
 };
@@ -50,10 +53,10 @@ TEST_P(CliSignal, StopsWritesValidOutputsAndExitsWithTheSignalsCode) {
   bool saw_window = false;
   const auto r = testing::RunProcess(
       {CSLAM_BINARY, "run", (tmp_.path() / "seq").string(), "--out", out.string(), "--mode", "online",
-       "--no-progress"},
+       "--config", (tmp_.path() / "config.yaml").string(), "--no-progress"},
       tmp_.path() / "logs", [&](pid_t pid, const fs::path& err) {
-        // Signal once a couple of windows are in the map, so there is something to write.
-        saw_window = testing::WaitForText(err, "window 5..34 integrated", std::chrono::seconds(120));
+        // Signal once a window is in the map, so there is something to write.
+        saw_window = testing::WaitForText(err, "window 0..29 integrated", std::chrono::seconds(600));
         kill(pid, sig);
       });
   ASSERT_TRUE(saw_window) << r.err;
@@ -63,7 +66,7 @@ TEST_P(CliSignal, StopsWritesValidOutputsAndExitsWithTheSignalsCode) {
   EXPECT_THAT(testing::TemporaryFilesUnder(out), IsEmpty());
   const auto kitti = ReadRows(out / "camera_trajectory.txt", 12);
   const auto tum = ReadRows(out / "camera_trajectory.tum", 8);
-  EXPECT_GE(kitti.size(), 35u);
+  EXPECT_GE(kitti.size(), 30u);
   EXPECT_LT(kitti.size(), static_cast<size_t>(kFrames)) << "the run was not interrupted";
   EXPECT_EQ(tum.size(), kitti.size());
   for (const char* f : {"clusters.csv", "metrics.json", "run.log", "objects/index.csv"})
