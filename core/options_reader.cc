@@ -140,7 +140,11 @@ void OptionsReader::Finish() const {
   if (!node_ || !node_.IsMap()) return;
   std::vector<std::string> unknown;
   for (const auto& kv : node_) {
-    const std::string k = kv.first.as<std::string>();
+    // A key that is itself a list or mapping ("? [a, b]: 1") can never be known; name it by
+    // its line (found by fuzz/options_fuzzer: as<std::string>() threw a YAML exception).
+    const std::string k = kv.first.IsScalar()
+                              ? kv.first.Scalar()
+                              : "<non-scalar key on line " + std::to_string(kv.first.Mark().line + 1) + ">";
     if (std::find(read_keys_.begin(), read_keys_.end(), k) == read_keys_.end())
       unknown.push_back(k);
   }

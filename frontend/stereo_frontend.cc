@@ -24,12 +24,14 @@ void FrontendOptions::Check() const {
   nested("tracker", [&] { tracker.Check(); });
   nested("stereo", [&] { stereo.Check(); });
   nested("covariance", [&] { covariance.Check(); });
+  CheckOption(reinit_below_tracks >= 0, "reinit_below_tracks", "must be >= 0", reinit_below_tracks);
 }
 
 void FrontendOptions::Load(OptionsReader& reader) {
   reader.Read("confirm_new_tracks", &confirm_new_tracks);
   reader.Read("predict_flow", &predict_flow);
   reader.Read("use_disparity_prior", &use_disparity_prior);
+  reader.Read("reinit_below_tracks", &reinit_below_tracks);
   auto load = [&](const char* key, auto& options) {
     OptionsReader section = reader.Section(key);
     options.Load(section);
@@ -134,6 +136,7 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
   StageClock timer;
   KltPyramid cur = s.tracker.BuildPyramid(left_grey);
   std::vector<Track> tracks;
+  const size_t live_before = s.has_prev ? s.tracks.size() : 0;
   if (s.has_prev && !s.tracks.empty()) {
     std::vector<cv::Point2f> prev_pts, predicted;
     prev_pts.reserve(s.tracks.size());
@@ -155,6 +158,12 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
       t.fb_error_px = results[i].fb_error_px;
       tracks.push_back(t);
     }
+  }
+  if (live_before > 0 && static_cast<int>(tracks.size()) < options_.reinit_below_tracks &&
+      10 * tracks.size() < live_before) {
+    summary.lost += static_cast<int>(tracks.size());
+    summary.tracking_lost = true;
+    tracks.clear();
   }
   timer.Lap(&summary.track_ms, &summary.cpu_track_ms);
 
@@ -223,6 +232,13 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
       summary.observations += table->Add(t.landmark, frame, x, cov);
     }
     next.push_back(t);
+  }
+  if (live_before > 0 && summary.tracked == 0) {
+    // Nothing survived: whatever is detected now starts a new, unconnected set of tracks.
+    summary.tracking_lost = true;
+    GetLogger("frontend")->warn("frame {}: tracking lost ({} live tracks, none continued); "
+                                "re-initialising from {} new detections",
+                                frame, live_before, summary.created);
   }
   s.tracks = std::move(next);
   s.prev = std::move(cur);

@@ -33,6 +33,10 @@ struct FrontendOptions {
   /// Search a tracked point's stereo match near its last disparity (StereoMatcherOptions::
   /// prior_margin_*) instead of over the whole range.
   bool use_disparity_prior = true;
+  /// Tracking loss: when fewer tracks than this, and under a tenth of the live ones, survive
+  /// into a frame (a jump, a black frame), the survivors are likely false matches: they are
+  /// dropped and tracking starts over from new detections. 0 = only when none survive.
+  int reinit_below_tracks = 10;
 
   void Check() const;
   /// Reads the fields and the sections detector, tracker, stereo, covariance (each finished).
@@ -50,6 +54,10 @@ struct FrameSummary {
   int detected = 0;         ///< new corners detected before the stereo match
   int new_landmarks = 0;    ///< landmark ids created in the table this frame
   int observations = 0;     ///< observations appended to the table this frame
+  /// Tracking was lost: the previous frame had live tracks and none continued into this one
+  /// (a black or textureless frame, a jump). The frontend starts over from new detections;
+  /// the pipeline starts its windows after such a break (docs/reliability.md).
+  bool tracking_lost = false;
   // Per stage: wall-clock ms (what a caller waits) and the calling thread's CPU ms (what the
   // stage costs, unaffected by other processes competing for the core).
   double track_ms = 0, cpu_track_ms = 0;            ///< pyramid + KLT forward-backward + NCC

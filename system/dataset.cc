@@ -25,6 +25,7 @@ DatasetKind DetectDataset(const std::string& path) {
 std::unique_ptr<StereoSource> OpenStereoSource(const std::string& path, bool color) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "expected a dataset folder; it does not exist");
+  if (!fs::is_directory(path, ec)) throw InputError(path, "expected a dataset folder; it is a file");
   switch (DetectDataset(path)) {
     case DatasetKind::kKittiRaw:
       return std::make_unique<KittiRawSource>(path, color);
@@ -36,10 +37,14 @@ std::unique_ptr<StereoSource> OpenStereoSource(const std::string& path, bool col
     case DatasetKind::kUnknown:
       break;
   }
+  // The likely mistake behind an odometry-looking folder is a missing calib.txt: say so.
+  const std::string hint = fs::is_directory(fs::path(path) / "image_0", ec)
+                               ? " (it has image_0/ but no calib.txt)"
+                               : "";
   throw InputError(path,
                    "is none of the known kinds: expected a KITTI raw drive folder (image_00/…), "
                    "a KITTI odometry sequence (image_0/…, calib.txt) or a synthetic sequence "
-                   "(observations file)");
+                   "(observations file)" + hint);
 }
 
 }  // namespace cslam

@@ -86,9 +86,13 @@ KittiCamToCam ReadKittiCamToCam(const std::string& path) {
     }
     if (file.Has("S_rect" + suffix)) {
       const std::vector<double> s = file.Numbers("S_rect" + suffix, 2);
-      if (!(s[0] >= 1 && s[1] >= 1) || s[0] != std::floor(s[0]) || s[1] != std::floor(s[1]))
+      // The upper bound keeps the int conversion defined (found by fuzz/calibration_fuzzer).
+      constexpr double kMaxSide = 1 << 20;
+      if (!(s[0] >= 1 && s[1] >= 1 && s[0] <= kMaxSide && s[1] <= kMaxSide) ||
+          s[0] != std::floor(s[0]) || s[1] != std::floor(s[1]))
         throw InputError(path, file.LineOf("S_rect" + suffix),
-                         "'S_rect" + suffix + "': expected a positive whole image size");
+                         "'S_rect" + suffix + "': expected a positive whole image size of at most " +
+                             std::to_string(static_cast<int>(kMaxSide)) + " pixels a side");
       calib.s_rect[cam] = Eigen::Vector2i(static_cast<int>(s[0]), static_cast<int>(s[1]));
     }
   }

@@ -87,6 +87,11 @@ nlohmann::json ToJson(const RunMetrics& m) {
                  {"frontend_ms_per_frame", Value(m.timing.frontend_ms_per_frame)},
                  {"backend_ms_per_window", Value(m.timing.backend_ms_per_window)},
                  {"hz", Value(m.timing.hz)}};
+  j["run"] = {{"interrupted", m.run.interrupted},
+              {"windows", m.run.windows},
+              {"failed_windows", m.run.failed_windows},
+              {"tracking_lost", m.run.tracking_lost},
+              {"gaps", m.run.gaps}};
   j["conventions"] = {
       {"ate",
        "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each "
@@ -162,6 +167,14 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     Read(t, "frontend_ms_per_frame", m.timing.frontend_ms_per_frame);
     Read(t, "backend_ms_per_window", m.timing.backend_ms_per_window);
     Read(t, "hz", m.timing.hz);
+    const json& r = Child(j, "run");
+    if (r.is_object()) {
+      m.run.interrupted = r.value("interrupted", false);
+      m.run.windows = r.value("windows", 0);
+      m.run.failed_windows = r.value("failed_windows", std::vector<int>{});
+      m.run.tracking_lost = r.value("tracking_lost", std::vector<int>{});
+      m.run.gaps = r.value("gaps", std::vector<int>{});
+    }
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, std::string("unexpected value type: ") + e.what());
   }

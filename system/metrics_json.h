@@ -45,6 +45,14 @@ struct RunMetrics {
   struct Timing {
     std::optional<double> total_s, frontend_ms_per_frame, backend_ms_per_window, hz;
   };
+  /// How the run went (docs/reliability.md): what was cut short, discarded or chained blindly.
+  struct Status {
+    bool interrupted = false;            ///< stopped by SIGINT/SIGTERM before the end
+    int windows = 0;                     ///< backend windows run
+    std::vector<int> failed_windows;     ///< first frame of each discarded window
+    std::vector<int> tracking_lost;      ///< frames where the frontend lost every track
+    std::vector<int> gaps;               ///< frames where the trajectory was chained without overlap
+  };
 
   std::string sequence;
   std::optional<int> frames;
@@ -55,6 +63,7 @@ struct RunMetrics {
   Landmarks landmarks;
   std::optional<double> log_chi2;
   Timing timing;
+  Status run;
 };
 
 /// The JSON document: the keys above, plus "conventions" naming each metric's statistic,

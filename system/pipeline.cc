@@ -49,14 +49,26 @@ class TrackingStage {
 // Runs backend windows and folds them into the map.
 class BackendStage {
  public:
-  BackendStage(const StereoCamera& camera, const PipelineOptions& options)
-      : camera_(camera), options_(options), map_(options.map) {}
+  BackendStage(const StereoCamera& camera, const PipelineOptions& options, const BackendFunction& backend)
+      : camera_(camera), options_(options), backend_(backend ? backend : BackendFunction(RunBackend)),
+        map_(options.map) {}
 
   WindowStats Process(const TrackletTable& window_table, FrameRange range) {
     WindowStats stats;
     stats.range = range;
     Timer timer;
-    BackendResult result = RunBackend(window_table, camera_, range, options_);
+    BackendResult result;
+    try {
+      result = backend_(window_table, camera_, range, options_);
+    } catch (const ConfigError&) {
+      throw;  // every later window would fail the same way
+    } catch (const std::exception& e) {
+      // A solver failure in one window must not end the run: the map goes on without it.
+      stats.failed = true;
+      GetLogger("system")->warn("window {}..{} discarded: the backend failed: {}", range.begin,
+                                range.end - 1, e.what());
+      return stats;
+    }
     stats.backend_ms = timer.ElapsedMs();
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
     if (!Usable(result.estimate)) {
@@ -69,6 +81,9 @@ class BackendStage {
     timer.Reset();
     stats.integration = map_.Integrate(result.estimate);
     stats.integrate_ms = timer.ElapsedMs();
+    GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
+                              range.end - 1, stats.clusters,
+                              stats.integration.gap ? ", chained across a gap" : "");
     last_result_ = std::move(result);
     return stats;
   }
@@ -90,21 +105,98 @@ class BackendStage {
 
   const StereoCamera& camera_;
   const PipelineOptions& options_;
+  BackendFunction backend_;
   MapState map_;
   std::optional<BackendResult> last_result_;
 };
 
-// Which window (if any) is due once `frames_done` frames are tracked.
-std::optional<FrameRange> DueWindow(int frames_done, const OnlineOptions& o) {
-  if (frames_done < o.window_frames) return std::nullopt;
-  if ((frames_done - o.window_frames) % o.window_every != 0) return std::nullopt;
-  return FrameRange{frames_done - o.window_frames, frames_done};
+// A stretch after a tracking break needs this many frames to be worth a backend call.
+constexpr int kMinClippedFrames = 3;
+
+// Landmarks observed in both `frame` - 1 and `frame` (complete once `frame` is tracked).
+int SharedWithPrevious(const TrackletTable& table, int frame) {
+  if (frame <= 0 || frame >= table.num_frames()) return 0;
+  int shared = 0;
+  for (const ObservationRef& ref : table.ObservationsAt(frame))
+    if (ref.index > 0 && table.Get({ref.landmark, ref.index - 1}).frame == frame - 1) ++shared;
+  return shared;
 }
 
-// The last window, so every frame up to the end gets a pose.
-std::optional<FrameRange> FinalWindow(int frames_done, int last_window_end, const OnlineOptions& o) {
-  if (frames_done <= 0 || last_window_end >= frames_done) return std::nullopt;
-  return FrameRange{std::max(0, frames_done - o.window_frames), frames_done};
+// Decides, frame by frame, which backend windows are due: the last window_frames frames every
+// window_every frames, and a last one at the end so every frame gets a pose. No window spans a
+// tracking break (consecutive frames sharing fewer than min_shared_landmarks landmarks): the
+// two sides are unconnected and no solver can place one relative to the other. So a break
+// closes the stretch before it with a window of its own, and windows after it start at it.
+class WindowScheduler {
+ public:
+  explicit WindowScheduler(const OnlineOptions& o) : o_(o) {}
+
+  // Windows to run once frame `f` is tracked into `table`, in order.
+  std::vector<FrameRange> AfterFrame(const TrackletTable& table, int f) {
+    std::vector<FrameRange> due;
+    if (f > 0 && SharedWithPrevious(table, f) < o_.min_shared_landmarks) {
+      if (last_end_ < f && !broken_before_) {
+        // The frames since the last window would otherwise never be solved.
+        const FrameRange closing{std::max(segment_begin_, f - o_.window_frames), f};
+        if (closing.size() >= kMinClippedFrames) due.push_back(closing);
+        last_end_ = f;
+      }
+      if (!broken_before_)
+        GetLogger("system")->info("tracking break at frame {}: no window spans it", f);
+      broken_before_ = true;
+      segment_begin_ = f;
+    } else {
+      broken_before_ = false;
+    }
+    const int done = f + 1;
+    if (done >= o_.window_frames && (done - o_.window_frames) % o_.window_every == 0) {
+      if (auto w = Clip({done - o_.window_frames, done})) due.push_back(*w);
+      last_end_ = done;
+    }
+    return due;
+  }
+
+  // The window after the last frame, when frames since the last window have no pose yet.
+  std::optional<FrameRange> Final(int frames_done) {
+    if (frames_done <= 0 || last_end_ >= frames_done) return std::nullopt;
+    last_end_ = frames_done;
+    return Clip({std::max(0, frames_done - o_.window_frames), frames_done});
+  }
+
+  // A window that was not run after all (real-time mode, backend behind).
+  void Skipped(FrameRange w) { last_end_ = std::min(last_end_, w.begin); }
+
+ private:
+  std::optional<FrameRange> Clip(FrameRange r) const {
+    if (segment_begin_ <= r.begin) return r;
+    if (r.end - segment_begin_ < kMinClippedFrames) return std::nullopt;
+    return FrameRange{segment_begin_, r.end};
+  }
+
+  const OnlineOptions& o_;
+  int last_end_ = 0;        // end of the last window scheduled
+  int segment_begin_ = 0;   // first frame after the last tracking break
+  bool broken_before_ = false;  // the previous frame was a break too (e.g. a run of black frames)
+};
+
+// [0, frames) split at every tracking break; stretches too short to solve are left out
+// unless there is only one.
+std::vector<FrameRange> SegmentsBetweenBreaks(const TrackletTable& table, int frames,
+                                              const OnlineOptions& o) {
+  std::vector<FrameRange> all;
+  int begin = 0;
+  for (int f = 1; f <= frames; ++f)
+    if (f == frames || SharedWithPrevious(table, f) < o.min_shared_landmarks) {
+      all.push_back({begin, f});
+      begin = f;
+    }
+  if (all.size() <= 1) return all;
+  std::vector<FrameRange> kept;
+  for (const FrameRange& r : all)
+    if (r.size() >= kMinClippedFrames) kept.push_back(r);
+  GetLogger("system")->info("{} tracking break(s): {} stretch(es) long enough to solve",
+                            all.size() - 1, kept.size());
+  return kept;
 }
 
 bool StopRequested(const std::atomic<bool>* stop) { return stop && stop->load(); }
@@ -174,14 +266,19 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
 }
 
 PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
-                        const std::atomic<bool>* stop, const ProgressCallback& progress) {
+                        const std::atomic<bool>* stop, const ProgressCallback& progress,
+                        const BackendFunction& backend_fn) {
   PipelineResult out;
   TrackingStage tracking(input, options.frontend);
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, {});
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
   if (out.frames_processed == 0) return out;
-  BackendStage backend(input.camera, options);
-  out.windows.push_back(backend.Process(tracking.table(), {0, out.frames_processed}));
+  BackendStage backend(input.camera, options, backend_fn);
+  // One backend call per stretch between tracking breaks (normally the whole sequence).
+  const std::vector<FrameRange> segments =
+      SegmentsBetweenBreaks(tracking.table(), out.frames_processed, options.online);
+  for (const FrameRange& r : segments)
+    out.windows.push_back(backend.Process(segments.size() == 1 ? tracking.table() : tracking.table().Slice(r), r));
   out.batch = std::move(backend.last_result());
   out.map = std::move(backend.map());
   out.table = std::move(tracking.table());
@@ -189,19 +286,20 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
 }
 
 PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions& options,
-                                   const std::atomic<bool>* stop, const ProgressCallback& progress) {
+                                   const std::atomic<bool>* stop, const ProgressCallback& progress,
+                                   const BackendFunction& backend_fn) {
   PipelineResult out;
   TrackingStage tracking(input, options.frontend);
-  BackendStage backend(input.camera, options);
-  int last_end = 0;
+  BackendStage backend(input.camera, options, backend_fn);
+  WindowScheduler windows(options.online);
+  auto run_window = [&](FrameRange w) {
+    out.windows.push_back(backend.Process(tracking.table().Slice(w), w));
+  };
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, [&](int f) {
-    if (auto w = DueWindow(f + 1, options.online)) {
-      out.windows.push_back(backend.Process(tracking.table().Slice(*w), *w));
-      last_end = w->end;
-    }
+    for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) run_window(w);
   });
-  if (auto w = FinalWindow(out.frames_processed, last_end, options.online); w && !out.interrupted)
-    out.windows.push_back(backend.Process(tracking.table().Slice(*w), *w));
+  if (!out.interrupted)
+    if (auto w = windows.Final(out.frames_processed)) run_window(*w);
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
   out.map = std::move(backend.map());
   out.table = std::move(tracking.table());
@@ -209,14 +307,15 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
 }
 
 PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& options,
-                                 const std::atomic<bool>* stop, const ProgressCallback& progress) {
+                                 const std::atomic<bool>* stop, const ProgressCallback& progress,
+                                 const BackendFunction& backend_fn) {
   PipelineResult out;
   const int n = input.num_frames();
   const OnlineOptions& online = options.online;
   BoundedQueue<FrameItem> frames(online.frame_queue);
   BoundedQueue<WindowJob> jobs(online.window_queue);
   TrackingStage tracking(input, options.frontend);
-  BackendStage backend(input.camera, options);
+  BackendStage backend(input.camera, options, backend_fn);
   std::exception_ptr reader_error, frontend_error, backend_error;
   std::atomic<bool> abort{false};
   auto stopping = [&] { return abort.load() || StopRequested(stop); };
@@ -237,32 +336,32 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   });
 
   std::thread frontend([&] {
-    int last_end = 0;
+    WindowScheduler windows(online);
     try {
+      bool backend_gone = false;
       while (auto item = frames.Pop()) {
-        if (stopping()) continue;  // drain without work so the reader can finish
+        if (stopping() || backend_gone) continue;  // drain without work so the reader can finish
         const int f = item->index;
         if (auto s = tracking.Process(f, item->images ? &*item->images : nullptr))
           out.frontend_frames.push_back(*s);
         out.frames_processed = f + 1;
         if (progress) progress(f + 1, n);
-        if (auto w = DueWindow(f + 1, online)) {
-          WindowJob job{*w, tracking.table().Slice(*w)};
+        for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) {
+          WindowJob job{w, tracking.table().Slice(w)};
           if (online.realtime) {
             if (!jobs.TryPush(std::move(job))) {
               ++out.windows_skipped;
-              GetLogger("system")->warn("backend behind: window {}..{} skipped", w->begin,
-                                        w->end - 1);
-              continue;
+              windows.Skipped(w);
+              GetLogger("system")->warn("backend behind: window {}..{} skipped", w.begin, w.end - 1);
             }
           } else if (!jobs.Push(std::move(job))) {
+            backend_gone = true;
             break;
           }
-          last_end = w->end;
         }
       }
-      if (!stopping()) {
-        if (auto w = FinalWindow(out.frames_processed, last_end, online))
+      if (!stopping() && !backend_gone) {
+        if (auto w = windows.Final(out.frames_processed))
           jobs.Push(WindowJob{*w, tracking.table().Slice(*w)});
       }
     } catch (...) {
@@ -314,15 +413,16 @@ BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera,
 }
 
 PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options,
-                           const std::atomic<bool>* stop, const ProgressCallback& progress) {
+                           const std::atomic<bool>* stop, const ProgressCallback& progress,
+                           const BackendFunction& backend) {
   Timer timer;
   PipelineResult out;
   if (options.mode == "batch") {
-    out = RunBatch(input, options, stop, progress);
+    out = RunBatch(input, options, stop, progress, backend);
   } else if (options.online.sequential) {
-    out = RunOnlineSequential(input, options, stop, progress);
+    out = RunOnlineSequential(input, options, stop, progress, backend);
   } else {
-    out = RunOnlineThreaded(input, options, stop, progress);
+    out = RunOnlineThreaded(input, options, stop, progress, backend);
   }
   out.total_s = timer.ElapsedS();
   return out;

@@ -50,11 +50,19 @@ struct PipelineResult {
 /// Called after each frame with (frames done, frames total); for progress bars.
 using ProgressCallback = std::function<void(int, int)>;
 
+/// The backend call of one window (RunBackend unless a test injects a fault).
+using BackendFunction = std::function<BackendResult(const TrackletTable&, const StereoCamera&,
+                                                    FrameRange, const PipelineOptions&)>;
+
 /// Runs the system over `input` in options.mode. `stop` (may be null) is polled; when it
-/// becomes true the run winds down and returns what was estimated so far.
+/// becomes true the run winds down and returns what was estimated so far. A window whose
+/// backend call throws (other than ConfigError) or returns no usable estimate is discarded
+/// and logged (WindowStats::failed); the run goes on. No window spans a tracking break
+/// (OnlineOptions::min_shared_landmarks). `backend` replaces RunBackend (tests only).
 PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options,
                            const std::atomic<bool>* stop = nullptr,
-                           const ProgressCallback& progress = {});
+                           const ProgressCallback& progress = {},
+                           const BackendFunction& backend = {});
 
 /// The backend method named in options over `range` of `table` (no threads of its own).
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,

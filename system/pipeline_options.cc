@@ -12,6 +12,8 @@ void OnlineOptions::Check() const {
               "must be in [1, window_frames - 2] so consecutive windows share frames", window_every);
   CheckOption(frame_queue >= 1, "online.frame_queue", "must be >= 1", frame_queue);
   CheckOption(window_queue >= 1, "online.window_queue", "must be >= 1", window_queue);
+  CheckOption(min_shared_landmarks >= 1, "online.min_shared_landmarks", "must be >= 1",
+              min_shared_landmarks);
 }
 
 void OnlineOptions::Load(OptionsReader& r) {
@@ -21,6 +23,7 @@ void OnlineOptions::Load(OptionsReader& r) {
   r.Read("window_queue", &window_queue);
   r.Read("realtime", &realtime);
   r.Read("sequential", &sequential);
+  r.Read("min_shared_landmarks", &min_shared_landmarks);
   r.Finish();
 }
 
@@ -114,6 +117,12 @@ PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string
   if (!config_file.empty()) {
     auto r = OptionsReader::FromFile(config_file);
     o.Load(r);
+    // A value out of range came from the file: name it (Check() only knows the key).
+    try {
+      o.Check();
+    } catch (const ConfigError& e) {
+      throw ConfigError(config_file + ": " + e.what());
+    }
   }
   o.Check();
   return o;

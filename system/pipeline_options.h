@@ -21,6 +21,9 @@ struct OnlineOptions {
   int window_queue = 2;     ///< windows buffered between frontend and backend
   bool realtime = false;    ///< pace input by timestamps; skip windows when the backend lags
   bool sequential = false;  ///< run every stage in one thread, in order (deterministic)
+  /// Consecutive frames sharing fewer landmarks than this are a tracking break (black or
+  /// textureless frames, a jump): no window spans one; the map chains across it as a gap.
+  int min_shared_landmarks = 5;
   void Check() const;
   void Load(OptionsReader& r);
 };

@@ -62,6 +62,19 @@ void WriteLandmarkClouds(const std::vector<RenderPoint>& points, const std::stri
   cloud.width = static_cast<std::uint32_t>(cloud.size());
   cloud.height = 1;
   cloud.is_dense = true;
+  if (cloud.empty()) {
+    // PCL refuses to write an empty cloud, but a run stopped before its first window has no
+    // landmarks: write valid, empty files so every output still parses.
+    WriteFileAtomically(ply_path, [](std::ostream& out) {
+      out << "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
+             "property float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+             "property uchar blue\nend_header\n";
+    });
+    WriteFileAtomically(pcd_path, [&cloud](std::ostream& out) {
+      out << pcl::PCDWriter::generateHeader(cloud, 0) << "DATA binary\n";
+    });
+    return;
+  }
   WriteThroughTemporary(ply_path, [&cloud](const std::string& tmp) {
     // No PCL "camera" element: plain vertex PLY that every viewer reads without warnings.
     pcl::PLYWriter writer;

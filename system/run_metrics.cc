@@ -243,6 +243,13 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   std::vector<double> backend_ms;
   for (const auto& w : result.windows) backend_ms.push_back(w.backend_ms);
   if (!backend_ms.empty()) m.timing.backend_ms_per_window = Median(backend_ms);
+  m.run.interrupted = result.interrupted;
+  m.run.windows = static_cast<int>(result.windows.size());
+  for (const auto& w : result.windows)
+    if (w.failed) m.run.failed_windows.push_back(w.range.begin);
+  for (const auto& f : result.frontend_frames)
+    if (f.tracking_lost) m.run.tracking_lost.push_back(f.frame);
+  m.run.gaps = result.map.gaps();
   return m;
 }
 
@@ -270,6 +277,19 @@ std::string SummarizeMetrics(const RunMetrics& m) {
       << (m.objects.ate_m ? ", mean ATE " + std::to_string(*m.objects.ate_m) + " m" : "") << "\n";
   if (m.landmarks.rmse_m) s << "  landmarks: RMSE " << *m.landmarks.rmse_m << " m over " << m.landmarks.count.value_or(0) << " observations\n";
   if (m.log_chi2) s << "  log chi2: " << *m.log_chi2 << "\n";
+  auto list = [](const std::vector<int>& v) {
+    std::string out;
+    for (int x : v) out += (out.empty() ? "" : " ") + std::to_string(x);
+    return out;
+  };
+  if (m.run.interrupted || !m.run.failed_windows.empty() || !m.run.tracking_lost.empty() || !m.run.gaps.empty()) {
+    s << "  run: " << m.run.windows << " windows";
+    if (m.run.interrupted) s << ", interrupted";
+    if (!m.run.failed_windows.empty()) s << ", discarded windows from frames " << list(m.run.failed_windows);
+    if (!m.run.tracking_lost.empty()) s << ", tracking lost at frames " << list(m.run.tracking_lost);
+    if (!m.run.gaps.empty()) s << ", trajectory gaps at frames " << list(m.run.gaps);
+    s << "\n";
+  }
   return s.str();
 }
 

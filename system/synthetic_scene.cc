@@ -83,8 +83,12 @@ class Rng {
     return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
   }
   Eigen::Vector3f Color(float lo, float hi) {
-    return Eigen::Vector3f(static_cast<float>(Uniform(lo, hi)), static_cast<float>(Uniform(lo, hi)),
-                           static_cast<float>(Uniform(lo, hi)));
+    // One draw per statement: the order of function arguments is unspecified (gcc and clang
+    // differ), and the files must not depend on the compiler. Draws run z, y, x, as gcc did.
+    const float z = static_cast<float>(Uniform(lo, hi));
+    const float y = static_cast<float>(Uniform(lo, hi));
+    const float x = static_cast<float>(Uniform(lo, hi));
+    return Eigen::Vector3f(x, y, z);
   }
   int Texture() { return Int(0, (1 << 30) - 1); }
 
@@ -361,16 +365,20 @@ Draft BuildOutdoor(const SyntheticOptions& options, const StereoCamera& cam, Rng
       const double setback = scene.Uniform(0, 2);
       const Eigen::Vector3d centre(x + 0.5 * w, side * (kWalk + setback + 0.5 * depth), 0.5 * height);
       std::vector<SceneQuad> box;
-      AddBox(MakePose(Eigen::Matrix3d::Identity(), centre), {w, depth, height},
-             scene.Color(0.35f, 0.9f), scene.Texture(), &box, false);
+      // Texture before colour (see Rng::Color on argument order).
+      const int texture = scene.Texture();
+      const Eigen::Vector3f color = scene.Color(0.35f, 0.9f);
+      AddBox(MakePose(Eigen::Matrix3d::Identity(), centre), {w, depth, height}, color, texture, &box, false);
       for (const auto& q : box) AddTiled(q, 10.0, &world.quads);
       x += w + gap;
     }
     for (double x = x_min + scene.Uniform(0, 10); x < x_max; x += scene.Uniform(12, 30)) {
       if (near_junction(x, x, 2.0)) continue;
       const double h = scene.Uniform(3, 5);
+      const int texture = scene.Texture();
+      const Eigen::Vector3f color = scene.Color(0.1f, 0.4f);
       AddBox(MakePose(Eigen::Matrix3d::Identity(), {x, side * 10.8, 0.5 * h}), {0.25, 0.25, h},
-             scene.Color(0.1f, 0.4f), scene.Texture(), &world.quads, false);
+             color, texture, &world.quads, false);
     }
     for (double x = x_min + 5; x < x_max; x += scene.Uniform(5.5, 9)) {
       if (near_junction(x, x, 8.0) || !scene.Chance(0.45)) continue;
@@ -508,8 +516,10 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
   room.kind = "static";
   {
     std::vector<SceneQuad> shell;
-    AddBox(MakePose(Eigen::Matrix3d::Identity(), {0, 0, 0.5 * H}), {W, D, H},
-           scene.Color(0.5f, 0.9f), scene.Texture(), &shell, true, true);
+    const int texture = scene.Texture();
+    const Eigen::Vector3f color = scene.Color(0.5f, 0.9f);
+    AddBox(MakePose(Eigen::Matrix3d::Identity(), {0, 0, 0.5 * H}), {W, D, H}, color, texture, &shell,
+           true, true);
     for (auto& q : shell) {
       q.color = scene.Color(0.4f, 0.9f);
       q.texture = scene.Texture();
@@ -539,9 +549,11 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
         const double depth = scene.Uniform(0.45, 0.6), h = scene.Uniform(0.7, 1.0);
         add_box(g_from_item, {0, 0.5 * depth + 0.01, 0.5 * h}, {w, depth, h}, color);
         for (int i = scene.Int(0, 3); i > 0; --i) {
-          const Eigen::Vector3d s(scene.Uniform(0.1, 0.3), scene.Uniform(0.1, 0.3), scene.Uniform(0.05, 0.35));
-          add_box(g_from_item, {scene.Uniform(-0.35, 0.35) * w, 0.5 * depth, h + 0.5 * s.z()}, s,
-                  scene.Color(0.1f, 0.95f));
+          const double sz = scene.Uniform(0.05, 0.35), sy = scene.Uniform(0.1, 0.3),
+                       sx = scene.Uniform(0.1, 0.3);
+          const Eigen::Vector3d s(sx, sy, sz);
+          const Eigen::Vector3f color = scene.Color(0.1f, 0.95f);
+          add_box(g_from_item, {scene.Uniform(-0.35, 0.35) * w, 0.5 * depth, h + 0.5 * s.z()}, s, color);
         }
       } else if (kind == 2) {  // sofa: seat and back
         const double depth = scene.Uniform(0.75, 0.9);
@@ -558,9 +570,10 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
       a += w + scene.Uniform(0.2, 1.0);
     }
     for (int i = scene.Int(0, 2); i > 0; --i) {  // pictures
-      const Eigen::Vector3d s(scene.Uniform(0.4, 1.0), 0.02, scene.Uniform(0.3, 0.7));
-      add_box(g_from_wall, {scene.Uniform(0.2, 0.8) * len, 0.011, scene.Uniform(1.5, 2.0)}, s,
-              scene.Color(0.05f, 1.0f));
+      const double sz = scene.Uniform(0.3, 0.7), sx = scene.Uniform(0.4, 1.0);
+      const Eigen::Vector3d s(sx, 0.02, sz);
+      const Eigen::Vector3f color = scene.Color(0.05f, 1.0f);
+      add_box(g_from_wall, {scene.Uniform(0.2, 0.8) * len, 0.011, scene.Uniform(1.5, 2.0)}, s, color);
     }
   }
   d.geometry.bodies.push_back(std::move(room));
@@ -592,14 +605,23 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
   for (int k = 0; k < num_objects; ++k) {
     SceneBody body;
     body.kind = "box";
-    const Eigen::Vector3d size(scene.Uniform(0.2, 0.6), scene.Uniform(0.2, 0.6), scene.Uniform(0.2, 0.6));
-    AddBox(Pose::Identity(), size, scene.Color(0.1f, 1.0f), scene.Texture(), &body.quads);
+    const double size_z = scene.Uniform(0.2, 0.6), size_y = scene.Uniform(0.2, 0.6),
+                 size_x = scene.Uniform(0.2, 0.6);
+    const Eigen::Vector3d size(size_x, size_y, size_z);
+    {
+      const int texture = scene.Texture();
+      const Eigen::Vector3f color = scene.Color(0.1f, 1.0f);
+      AddBox(Pose::Identity(), size, color, texture, &body.quads);
+    }
     double radius = 0.5 * size.norm();
     if (scene.Chance(0.5)) {
-      const Eigen::Vector3d top(scene.Uniform(0.1, 1.0) * size.x(), scene.Uniform(0.1, 1.0) * size.y(),
-                                scene.Uniform(0.1, 0.3));
-      AddBox(MakePose(Eigen::Matrix3d::Identity(), {0, 0, 0.5 * (size.z() + top.z())}), top,
-             scene.Color(0.1f, 1.0f), scene.Texture(), &body.quads, false);
+      const double top_z = scene.Uniform(0.1, 0.3), top_y = scene.Uniform(0.1, 1.0) * size.y(),
+                   top_x = scene.Uniform(0.1, 1.0) * size.x();
+      const Eigen::Vector3d top(top_x, top_y, top_z);
+      const int texture = scene.Texture();
+      const Eigen::Vector3f color = scene.Color(0.1f, 1.0f);
+      AddBox(MakePose(Eigen::Matrix3d::Identity(), {0, 0, 0.5 * (size.z() + top.z())}), top, color,
+             texture, &body.quads, false);
       radius = std::max(radius, (Eigen::Vector3d(0.5 * size.x(), 0.5 * size.y(), 0.5 * size.z() + top.z())).norm());
     }
     std::vector<Pose> poses(frames), best_poses;
@@ -617,9 +639,10 @@ Draft BuildIndoor(const SyntheticOptions& options, const StereoCamera& cam, Rng&
       // Start high enough that the vertical sway never reaches the floor.
       const double sway = 2 * amp.row(2).sum();
       const double z_lo = radius + 0.05 + sway, z_hi = std::min(1.5, H - 0.3 - radius - sway);
-      const Eigen::Vector3d c0(traj.Uniform(-0.5, 0.5) * (W - 2.4),
-                               traj.Uniform(y_cam + 0.9, 0.5 * D - 1.0),
-                               z_hi > z_lo ? traj.Uniform(z_lo, z_hi) : z_lo);
+      const double c0_z = z_hi > z_lo ? traj.Uniform(z_lo, z_hi) : z_lo;
+      const double c0_y = traj.Uniform(y_cam + 0.9, 0.5 * D - 1.0);
+      const double c0_x = traj.Uniform(-0.5, 0.5) * (W - 2.4);
+      const Eigen::Vector3d c0(c0_x, c0_y, c0_z);
       const double yaw0 = traj.Uniform(0, 2 * kPi), yaw_rate = traj.Sign() * traj.Uniform(0.2, 1.0);
       const double tilt = traj.Uniform(0.05, 0.25), tilt_w = 2 * kPi / traj.Uniform(2, 6),
                    tilt_phase = traj.Uniform(0, 2 * kPi);

@@ -9,6 +9,7 @@
 #include "backend/motion_distance.h"
 #include "backend/point_tracks.h"
 #include "tests/backend/test_scene.h"
+#include "tests/support/random.h"
 
 namespace cslam {
 namespace {
@@ -96,7 +97,8 @@ const Fixture& Sparse3000() {
     for (int l = 0; l < 3000; ++l) {
       const int len = 20 + static_cast<int>(40 * u(rng));
       const int start = static_cast<int>((200 - len) * u(rng));
-      const Eigen::Vector3d p(-20 + 40 * u(rng), -5 + 10 * u(rng), 8 + 40 * u(rng));
+      const Eigen::Vector3d d = testing::Draw3([&] { return u(rng); });
+      const Eigen::Vector3d p(-20 + 40 * d.x(), -5 + 10 * d.y(), 8 + 40 * d.z());
       for (int t = start; t < start + len; ++t) {
         Eigen::Vector3d x;
         fx.scene.camera.Project(Eigen::Vector3d(p.x(), p.y(), p.z() - 0.3 * (t - start)), &x);

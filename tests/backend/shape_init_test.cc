@@ -7,6 +7,7 @@
 #include "core/errors.h"
 #include "tests/backend/synthetic_bodies.h"
 #include "tests/support/matchers.h"
+#include "tests/support/random.h"
 
 namespace cslam {
 namespace {
@@ -29,7 +30,7 @@ TEST(ShapeInit, RegistrationIsExactOnNoiselessPoints) {
   const Pose truth = testing::MakePose(0.4, -0.2, Eigen::Vector3d(0.5, -0.3, 1.2));
   std::vector<RegistrationPoint> points;
   for (int i = 0; i < 20; ++i) {
-    const Eigen::Vector3d p(u(rng), u(rng), 4 + u(rng));
+    const Eigen::Vector3d p = testing::Draw3([&] { return u(rng); }) + Eigen::Vector3d(0, 0, 4);
     const Eigen::Matrix3d cov = Eigen::Vector3d(1e-4, 1e-4, 4e-3).asDiagonal();
     points.push_back({p, cov, truth * p, {cov, 2 * cov}});
   }

@@ -11,6 +11,7 @@
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
 #include "core/tracklet_table.h"
+#include "tests/support/random.h"
 
 namespace cslam::testing {
 
@@ -59,6 +60,10 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
   std::mt19937 rng(spec.seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   auto uni = [&](double a, double b) { return a + (b - a) * u01(rng); };
+  // A point uniform in the box [lo, hi], drawn in a compiler-independent order (random.h).
+  auto uni3 = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) -> Eigen::Vector3d {
+    return lo + (hi - lo).cwiseProduct(testing::Draw3([&] { return u01(rng); }));
+  };
 
   const Pose cam0 = MakePose(0.0, 0.0, Eigen::Vector3d::Zero());
   for (int t = 0; t < spec.num_frames; ++t) {
@@ -72,9 +77,9 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
   for (int i = 0; i < spec.num_static; ++i) {
     s.labels.push_back(0);
     if (spec.outdoor)
-      s.point_in_body.emplace_back(uni(-25, 25), uni(-4, 2), uni(6, far + travel));
+      s.point_in_body.push_back(uni3({-25, -4, 6}, {25, 2, far + travel}));
     else
-      s.point_in_body.emplace_back(uni(-4, 4), uni(-2, 2), uni(2.5, far + travel));
+      s.point_in_body.push_back(uni3({-4, -2, 2.5}, {4, 2, far + travel}));
   }
   for (int b = 1; b <= spec.num_moving; ++b) {
     const double side = (b % 2 == 1) ? 1.0 : -1.0;
@@ -92,8 +97,7 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
         spec.outdoor ? Eigen::Vector3d(1.0, 0.8, 2.2) : Eigen::Vector3d(0.5, 0.4, 0.5);
     for (int i = 0; i < spec.points_per_body; ++i) {
       s.labels.push_back(b);
-      s.point_in_body.emplace_back(uni(-half.x(), half.x()), uni(-half.y(), half.y()),
-                                   uni(-half.z(), half.z()));
+      s.point_in_body.push_back(uni3(-half, half));
     }
   }
 
@@ -107,9 +111,10 @@ inline BodyScene MakeBodyScene(const BodySceneSpec& spec) {
       if (p_cam.z() < 1.0 || p_cam.z() > far) continue;
       Eigen::Vector3d x;
       if (!s.camera.Project(p_cam, &x) || !s.camera.InImage(x, 2.0)) continue;
-      x += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+      x += testing::Draw3([&] { return noise(rng); });
       if (u01(rng) < spec.gross_outlier_fraction) {
-        const Eigen::Vector2d shift(uni(-1, 1), uni(-1, 1));
+        const double shift_y = uni(-1, 1), shift_x = uni(-1, 1);  // gcc's order (random.h)
+        const Eigen::Vector2d shift(shift_x, shift_y);
         const Eigen::Vector2d off = shift.normalized() * spec.gross_outlier_px;
         x += Eigen::Vector3d(off.x(), off.y(), off.x());
       }

@@ -9,6 +9,7 @@
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
 #include "core/tracklet_table.h"
+#include "tests/support/random.h"
 
 namespace cslam::testing {
 
@@ -76,8 +77,7 @@ inline std::vector<Eigen::Vector3d> RandomPoints(int n, const Eigen::Vector3d& l
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Eigen::Vector3d> out;
   for (int i = 0; i < n; ++i)
-    out.emplace_back(lo.x() + u(rng) * (hi.x() - lo.x()), lo.y() + u(rng) * (hi.y() - lo.y()),
-                     lo.z() + u(rng) * (hi.z() - lo.z()));
+    out.push_back(lo + testing::Draw3([&] { return u(rng); }).cwiseProduct(hi - lo));
   return out;
 }
 

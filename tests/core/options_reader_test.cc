@@ -53,6 +53,16 @@ TEST(OptionsReader, UnknownKeyIsAnErrorNamingIt) {
   EXPECT_NE(msg.find("sub.typo_key"), std::string::npos) << msg;
 }
 
+TEST(OptionsReader, ANonScalarKeyIsAnUnknownKeyNotACrash) {
+  // Regression of fuzz/corpus/options/crash-non_scalar_key.yaml: Finish() converted every key
+  // to a string and let yaml-cpp's bad-conversion exception escape (exit 4 instead of 2).
+  auto r = OptionsReader::FromString("known: 1\n? [a, b]\n: 2\n", "cfg.yaml");
+  int known = 0;
+  r.Read("known", &known);
+  const std::string msg = MessageOf([&] { r.Finish(); });
+  EXPECT_NE(msg.find("cfg.yaml: unknown key: <non-scalar key on line 2>"), std::string::npos) << msg;
+}
+
 TEST(OptionsReader, WrongTypeNamesTheKey) {
   auto r = OptionsReader::FromString("hac: {epsilon: lots}\n", "cfg.yaml");
   auto hac = r.Section("hac");

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "tests/support/matchers.h"
+#include "tests/support/random.h"
 
 namespace cslam {
 namespace {
@@ -13,7 +14,7 @@ TEST(Rigid, ExpAndLogAreInverse) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.5, 1.5);
   for (int i = 0; i < 50; ++i) {
-    const Eigen::Vector3d w(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d w = testing::Draw3([&] { return u(rng); });
     EXPECT_TRUE(testing::MatrixNear(LogSO3(ExpSO3(w)), w, 1e-9));
     EXPECT_NEAR(RotationAngle(ExpSO3(w)), w.norm(), 1e-9);
   }
@@ -28,7 +29,7 @@ TEST(Rigid, UmeyamaRecoversAKnownRigidTransform) {
   const Pose dst_from_src = PoseFromVector(xi);
   std::vector<Eigen::Vector3d> src, dst;
   for (int i = 0; i < 30; ++i) {
-    src.emplace_back(n(rng), n(rng), n(rng));
+    src.push_back(testing::Draw3([&] { return n(rng); }));
     dst.push_back(dst_from_src * src.back());
   }
   const Sim3 t = AlignUmeyama(src, dst, false);
@@ -44,7 +45,7 @@ TEST(Rigid, UmeyamaRecoversAKnownSimilarity) {
   const Pose r = PoseFromVector(xi);
   std::vector<Eigen::Vector3d> src, dst;
   for (int i = 0; i < 30; ++i) {
-    src.emplace_back(n(rng), n(rng), n(rng));
+    src.push_back(testing::Draw3([&] { return n(rng); }));
     dst.push_back(2.5 * (r.linear() * src.back()) + r.translation());
   }
   const Sim3 t = AlignUmeyama(src, dst, true);

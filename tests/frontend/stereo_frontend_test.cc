@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
 #include "core/options_reader.h"
@@ -153,6 +154,58 @@ TEST(StereoFrontend, TableBookkeepingAcrossFramesAndReset) {
   EXPECT_EQ(after.tracked, 0);
   EXPECT_EQ(after.observations, 0);
   EXPECT_GT(after.created, 0);
+}
+
+TEST(StereoFrontend, ReinitialisesAfterBlackFramesWithoutBridgingThem) {
+  // Frames 0-2 textured, 3-4 black (a tunnel, a covered lens), 5-7 textured again.
+  const Scene scene;
+  TrackletTable table;
+  StereoFrontend frontend(SyntheticCamera(), SmallImageOptions());
+  const cv::Mat black(kSize, CV_8U, cv::Scalar(0));
+  std::vector<FrameSummary> s;
+  for (int t = 0; t < 8; ++t) {
+    const bool dark = t == 3 || t == 4;
+    const Scene::Pair f = scene.Render({2.0f * t, 0.3f * t}, {-3.0f * t, 1.0f * t});
+    s.push_back(dark ? frontend.Process(t, black, black, &table) : frontend.Process(t, f.left, f.right, &table));
+  }
+  EXPECT_GT(s[2].tracked, 0);
+  EXPECT_FALSE(s[2].tracking_lost);
+  // The first black frame loses every track and finds nothing; the second has nothing to lose.
+  EXPECT_TRUE(s[3].tracking_lost);
+  EXPECT_EQ(s[3].tracked + s[3].created + s[3].observations, 0);
+  EXPECT_FALSE(s[4].tracking_lost);
+  EXPECT_EQ(frontend.num_live_tracks(), s[7].tracked + s[7].created);
+  // Back in the light: new tracks at once, continued the frame after.
+  EXPECT_GT(s[5].created, 100);
+  EXPECT_FALSE(s[5].tracking_lost);
+  EXPECT_GT(s[6].tracked, 0.8 * s[5].created);
+  EXPECT_TRUE(table.ObservationsAt(3).empty());
+  EXPECT_TRUE(table.ObservationsAt(4).empty());
+  // No landmark is observed on both sides of the dark frames.
+  for (int id = 0; id < table.num_landmarks(); ++id) {
+    const auto obs = table.ObservationsOf(id);
+    ASSERT_FALSE(obs.empty());
+    EXPECT_TRUE(obs.back().frame < 3 || obs.front().frame > 4) << "landmark " << id;
+  }
+}
+
+TEST(StereoFrontend, ATextureJumpIsATrackingLoss) {
+  // The camera jumps to an unrelated view: nothing can be tracked, new tracks start at once.
+  const Scene scene;
+  const cv::Mat other = testing::RandomTexture(kSize, 77);
+  TrackletTable table;
+  StereoFrontend frontend(SyntheticCamera(), SmallImageOptions());
+  const Scene::Pair f0 = scene.Render({0, 0}, {0, 0});
+  const Scene::Pair f1 = scene.Render({2, 0.3f}, {-3, 1});
+  frontend.Process(0, f0.left, f0.right, &table);
+  frontend.Process(1, f1.left, f1.right, &table);
+  cv::Mat other_right;
+  cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, -10, 0, 1, 0);  // disparity 10 px
+  cv::warpAffine(other, other_right, shift, kSize, cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  const FrameSummary jump = frontend.Process(2, other, other_right, &table);
+  EXPECT_TRUE(jump.tracking_lost);
+  EXPECT_EQ(jump.tracked, 0);
+  EXPECT_GT(jump.created, 100);
 }
 
 TEST(StereoFrontend, DoesNotKeepReferencesToTheCallersImages) {

@@ -40,6 +40,18 @@ TEST(KittiCalibration, KeyValueFileRejectsDuplicatesAndLinesWithoutKey) {
               HasSubstr(file.string() + ":2: expected a line 'key: values'"));
 }
 
+TEST(KittiCalibration, HugeImageSizeIsAnInputErrorNotAnOverflow) {
+  // Regression of fuzz/corpus/calibration/crash-s_rect_int_overflow: 1.24e103 was converted
+  // to int (undefined behaviour) instead of being rejected.
+  testing::TempDir tmp("s_rect_huge");
+  const auto file = tmp.path() / "calib_cam_to_cam.txt";
+  testing::WriteText(file, "R_rect_00: 1 0 0 0 1 0 0 0 1\nS_rect_00: 1.24e+103 3.75e+02\n");
+  EXPECT_THAT(testing::InputErrorMessage([&] { ReadKittiCamToCam(file.string()); }),
+              HasSubstr(file.string() + ":2: 'S_rect_00': expected a positive whole image size"));
+  testing::WriteText(file, "R_rect_00: 1 0 0 0 1 0 0 0 1\nS_rect_00: 1242 375\n");
+  EXPECT_EQ(ReadKittiCamToCam(file.string()).s_rect[0]->x(), 1242);
+}
+
 TEST(KittiCalibration, ColourPairBaselineAndCamera02Offset) {
   const KittiCamToCam calib = ReadKittiCamToCam((RawDateDir() / "calib_cam_to_cam.txt").string());
   const StereoCamera grey = StereoCameraFromCamToCam(calib, 0, 1);

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "tests/support/matchers.h"
+#include "tests/support/random.h"
 
 namespace cslam {
 namespace {
@@ -36,7 +37,8 @@ World MakeWorld(int frames) {
   std::uniform_real_distribution<double> u(-1, 1);
   for (int i = 0; i < 60; ++i) {
     w.label.push_back(i < 30 ? 0 : (i < 45 ? 1 : 2));
-    w.p_in_object.emplace_back(u(rng) * (i < 30 ? 10 : 1), u(rng), u(rng) * (i < 30 ? 10 : 2) + (i < 30 ? 30 : 0));
+    const Eigen::Vector3d d = testing::Draw3([&] { return u(rng); });
+    w.p_in_object.emplace_back(d.x() * (i < 30 ? 10 : 1), d.y(), d.z() * (i < 30 ? 10 : 2) + (i < 30 ? 30 : 0));
   }
   return w;
 }

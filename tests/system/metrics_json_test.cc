@@ -79,6 +79,30 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   EXPECT_EQ(r.landmarks.count, 3700);
 }
 
+TEST(MetricsJson, RunStatusRecordsInterruptionsFailuresAndGaps) {
+  RunMetrics m;
+  m.run.interrupted = true;
+  m.run.windows = 7;
+  m.run.failed_windows = {10, 25};
+  m.run.tracking_lost = {40};
+  m.run.gaps = {42};
+  const nlohmann::json j = ToJson(m);
+  EXPECT_EQ(j["run"]["interrupted"], true);
+  EXPECT_EQ(j["run"]["failed_windows"], nlohmann::json::array({10, 25}));
+  const RunMetrics back = RunMetricsFromJson(j);
+  EXPECT_TRUE(back.run.interrupted);
+  EXPECT_EQ(back.run.windows, 7);
+  EXPECT_EQ(back.run.failed_windows, (std::vector<int>{10, 25}));
+  EXPECT_EQ(back.run.tracking_lost, (std::vector<int>{40}));
+  EXPECT_EQ(back.run.gaps, (std::vector<int>{42}));
+  // Files written before the section existed read as a clean run.
+  nlohmann::json old = j;
+  old.erase("run");
+  EXPECT_FALSE(RunMetricsFromJson(old).run.interrupted);
+  old["run"] = {{"gaps", "three"}};
+  EXPECT_THROW(RunMetricsFromJson(old), InputError);
+}
+
 TEST(MetricsJson, WrongTypesAreInputErrors) {
   nlohmann::json j = {{"camera", {{"ate_m", "big"}}}};
   EXPECT_THROW(RunMetricsFromJson(j, "x.json"), InputError);

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
 #include "system/synthetic_scene.h"
 #include "tests/support/matchers.h"
 
@@ -86,6 +90,115 @@ TEST(Pipeline, BatchModeGivesEveryFrameAPoseNearTheTruth) {
     max_err = std::max(max_err, ((*r.map.world_from_cam()[f]).translation() -
                                  (*in.gt_world_from_cam)[f].translation()).norm());
   EXPECT_LT(max_err, 0.5);
+}
+
+// A backend that fails (throws, or returns non-finite poses) for the windows ending at the
+// given frames and runs the real one otherwise.
+BackendFunction FailingAt(std::vector<int> throw_at, std::vector<int> nan_at) {
+  return [=](const TrackletTable& t, const StereoCamera& c, FrameRange r, const PipelineOptions& o) {
+    if (std::find(throw_at.begin(), throw_at.end(), r.end) != throw_at.end())
+      throw std::runtime_error("injected solver failure");
+    BackendResult b = RunBackend(t, c, r, o);
+    if (std::find(nan_at.begin(), nan_at.end(), r.end) != nan_at.end())
+      b.estimate.world_from_cam[1].translation().x() = std::numeric_limits<double>::quiet_NaN();
+    return b;
+  };
+}
+
+TEST(Pipeline, AFailedWindowIsDiscardedAndTheRunGoesOn) {
+  const RunInput in = SmallSyntheticInput();
+  for (bool sequential : {true, false}) {
+    // Windows end at 30, 35, 40: the second throws, a NaN spoils the third in a second run.
+    const PipelineResult thrown = RunPipeline(in, OnlineOptionsFor(sequential), nullptr, {}, FailingAt({35}, {}));
+    ASSERT_FALSE(thrown.error);
+    EXPECT_EQ(thrown.frames_processed, 40);
+    ASSERT_EQ(thrown.windows.size(), 3u);
+    EXPECT_FALSE(thrown.windows[0].failed);
+    EXPECT_TRUE(thrown.windows[1].failed);
+    EXPECT_FALSE(thrown.windows[2].failed);
+    // The window after the failure still covers every frame.
+    for (int f = 0; f < 40; ++f) EXPECT_TRUE(thrown.map.world_from_cam()[f].has_value()) << f;
+
+    const PipelineResult nan = RunPipeline(in, OnlineOptionsFor(sequential), nullptr, {}, FailingAt({}, {40}));
+    ASSERT_FALSE(nan.error);
+    ASSERT_EQ(nan.windows.size(), 3u);
+    EXPECT_TRUE(nan.windows[2].failed);
+    // Frames 35..39 only the failed window covered: no pose rather than a NaN one.
+    for (int f = 0; f < 35; ++f) EXPECT_TRUE(nan.map.world_from_cam()[f].has_value()) << f;
+    for (int f = 0; f < nan.map.num_frames(); ++f) {
+      if (nan.map.world_from_cam()[f]) {
+        EXPECT_TRUE(nan.map.world_from_cam()[f]->matrix().allFinite()) << f;
+      }
+    }
+  }
+}
+
+TEST(Pipeline, AFailedBatchCallLeavesAnEmptyMapNotAnError) {
+  const RunInput in = SmallSyntheticInput();
+  PipelineOptions o = OnlineOptionsFor(true);
+  o.mode = "batch";
+  const PipelineResult r = RunPipeline(in, o, nullptr, {}, FailingAt({40}, {}));
+  ASSERT_FALSE(r.error);
+  ASSERT_EQ(r.windows.size(), 1u);
+  EXPECT_TRUE(r.windows[0].failed);
+  for (const auto& p : r.map.world_from_cam()) EXPECT_FALSE(p.has_value());
+}
+
+// `in` with frames [from, to) emptied (black frames: the frontend sees nothing) and every
+// landmark seen on both sides split in two, as a frontend that lost its tracks would see it.
+RunInput WithTrackingLoss(const RunInput& in, int from, int to) {
+  RunInput out;
+  out.name = in.name;
+  out.kind = in.kind;
+  out.camera = in.camera;
+  out.timestamps = in.timestamps;
+  out.gt_world_from_cam = in.gt_world_from_cam;
+  TrackletTable t;
+  const TrackletTable& given = *in.observations;
+  const int n = given.num_landmarks();
+  for (int l = 0; l < n; ++l)
+    for (const StereoObservation& o : given.ObservationsOf(l)) {
+      if (o.frame >= from && o.frame < to) continue;
+      t.Add(o.frame >= to ? l + n : l, o.frame, o.x, o.cov);
+    }
+  out.observations = std::move(t);
+  return out;
+}
+
+TEST(Pipeline, NoWindowSpansATrackingLossAndTheMapMarksTheGap) {
+  const RunInput in = WithTrackingLoss(SmallSyntheticInput(), 18, 20);
+  for (bool sequential : {true, false}) {
+    const PipelineResult r = RunPipeline(in, OnlineOptionsFor(sequential));
+    ASSERT_FALSE(r.error);
+    EXPECT_EQ(r.frames_processed, 40);
+    ASSERT_FALSE(r.windows.empty());
+    for (const WindowStats& w : r.windows) {
+      EXPECT_FALSE(w.failed) << w.range.begin << ".." << w.range.end;
+      EXPECT_FALSE(w.range.Contains(18) || w.range.Contains(19)) << w.range.begin << ".." << w.range.end;
+      EXPECT_FALSE(w.range.Contains(17) && w.range.Contains(20)) << w.range.begin << ".." << w.range.end;
+    }
+    // Before the loss, in the dark, after it.
+    for (int f = 0; f < 18; ++f) EXPECT_TRUE(r.map.world_from_cam()[f].has_value()) << f;
+    EXPECT_FALSE(r.map.world_from_cam()[18].has_value());
+    EXPECT_FALSE(r.map.world_from_cam()[19].has_value());
+    for (int f = 20; f < 40; ++f) EXPECT_TRUE(r.map.world_from_cam()[f].has_value()) << f;
+    ASSERT_EQ(r.map.gaps().size(), 1u);
+    EXPECT_EQ(r.map.gaps()[0], 20);
+  }
+}
+
+TEST(Pipeline, BatchModeSolvesEachStretchBetweenTrackingLosses) {
+  const RunInput in = WithTrackingLoss(SmallSyntheticInput(), 18, 20);
+  PipelineOptions o = OnlineOptionsFor(true);
+  o.mode = "batch";
+  const PipelineResult r = RunPipeline(in, o);
+  ASSERT_FALSE(r.error);
+  ASSERT_EQ(r.windows.size(), 2u);
+  EXPECT_EQ(r.windows[0].range, (FrameRange{0, 18}));
+  EXPECT_EQ(r.windows[1].range, (FrameRange{20, 40}));
+  EXPECT_FALSE(r.map.world_from_cam()[19].has_value());
+  EXPECT_TRUE(r.map.world_from_cam()[39].has_value());
+  ASSERT_EQ(r.map.gaps().size(), 1u);
 }
 
 }  // namespace

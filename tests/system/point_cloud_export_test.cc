@@ -48,6 +48,24 @@ TEST(PointCloudExport, PlyAndPcdRoundTripPointsAndClusterColours) {
   fs::remove_all(dir);
 }
 
+TEST(PointCloudExport, NoPointsGiveValidEmptyFiles) {
+  // A run stopped before its first window (a corrupt image, Ctrl-C) has no landmarks; its
+  // clouds must still be files a reader accepts, not an output error.
+  const fs::path dir = fs::temp_directory_path() / "cslam_cloud_empty_test";
+  fs::remove_all(dir);
+  const std::string ply = (dir / "landmarks.ply").string(), pcd = (dir / "landmarks.pcd").string();
+  WriteLandmarkClouds({{{std::nan(""), 0, 0}, 1}}, ply, pcd);
+  for (const std::string& path : {ply, pcd}) {
+    ASSERT_TRUE(fs::exists(path)) << path;
+    EXPECT_FALSE(fs::exists(TemporaryPathFor(path)));
+    pcl::PointCloud<pcl::PointXYZRGB> cloud;
+    pcl::PCLPointCloud2 blob;
+    EXPECT_EQ(pcl::io::load(path, blob), 0) << path;
+    EXPECT_EQ(blob.width * blob.height, 0u) << path;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(PointCloudExport, UnwritablePathIsAnOutputErrorNamingTheFile) {
   const fs::path blocker = fs::temp_directory_path() / "cslam_cloud_blocker";
   { std::ofstream(blocker) << "x"; }

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "tests/support/matchers.h"
+#include "tests/support/random.h"
 
 namespace cslam {
 namespace {
@@ -90,7 +91,7 @@ TEST(Ate, RmseIsMinimalOverAlignments) {
   Trajectory est = LeftMultiplied(MakePose({0.1, 0.2, -0.3}, {1, 2, 3}), gt);
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0.0, 0.3);
-  for (Pose& p : est.poses) p.translation() += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  for (Pose& p : est.poses) p.translation() += testing::Draw3([&] { return noise(rng); });
   const AteResult ate = ComputeAte(gt, est);
   ASSERT_GT(ate.rmse_m, 0.1);
   for (int axis = 0; axis < 6; ++axis) {

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Sanitizer runs (docs/reliability.md, "Tools"), both with clang from Debian:
+#  asan: AddressSanitizer + UndefinedBehaviorSanitizer build into ${ASAN_DIR:-build-asan} (with the
+#        libFuzzer targets, so scripts/fuzz.sh reuses it), then ctest over the suite minus
+#        ${ASAN_EXCLUDE} (a ctest -E regex; ASAN_EXCLUDE= runs everything);
+#  tsan: ThreadSanitizer build into ${TSAN_DIR:-build-tsan} of the tests that run the threaded
+#        pipeline, then those tests.
+# Usage: scripts/sanitize.sh [asan|tsan|all]   (default all). Any sanitizer report fails the run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+what=${1:-all}
+JOBS=${JOBS:-$(nproc)}
+ASAN_DIR=${ASAN_DIR:-build-asan}
+TSAN_DIR=${TSAN_DIR:-build-tsan}
+# Left out of the ASan run to keep CI near 30 min on 2 cores (docs/reliability.md, "Tools"):
+# long accuracy runs that each take 40-350 s under ASan and only repeat code paths that faster
+# tests in the same suites (and the `cslam run` CLI tests) cover; the Pipeline ones run under
+# TSan instead.
+ASAN_EXCLUDE=${ASAN_EXCLUDE-'^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|AFailedWindowIsDiscardedAndTheRunGoesOn|ThreadedOnlineRunEqualsTheSequentialOne)$|^cslam_demo_writes_every_output$|^EstimateMotions\.(TrueLabelsGiveAnAccurateCameraWhileFullBaIsBiased|ProgressiveDcsSplitsOffMovingPoints)$|^SyntheticScene\.(PresetsDrawSizesFromThePapersRanges|MovingObjectsMoveRealisticallyAndStayInView|OutdoorSeedOneMeetsTheSizeTarget)$|^BundleAdjustment\.(RobustKernelsResistGrossOutliers|CouplingModesAgreeOnACleanScene)$'}
+# The threaded pipeline: the in-process pipeline tests and `cslam run` under signals.
+TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|CliSignal|^CliTrackingLoss'}
+# Batch mode runs in one thread: nothing for TSan to see, and 6 min under it.
+TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.BatchModeGivesEveryFrameAPoseNearTheTruth$'}
+TEST_TIMEOUT=${TEST_TIMEOUT:-1500}
+SUPP="$PWD/scripts/sanitizers"
+
+export CC=clang CXX=clang++
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$SUPP/ubsan.supp"
+# Leak checking stays off: the Debian libraries we link (OSMesa, PCL, OpenCV) keep allocations
+# alive to the exit on purpose, and LeakSanitizer cannot tell those from ours.
+export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$SUPP/tsan.supp"
+
+if [[ $what == asan || $what == all ]]; then
+  cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCSLAM_SANITIZE=address \
+    -DCSLAM_BUILD_FUZZERS=ON
+  cmake --build "$ASAN_DIR" -j "$JOBS"
+  (cd "$ASAN_DIR" && ctest --output-on-failure -j "$JOBS" --timeout "$TEST_TIMEOUT" ${ASAN_EXCLUDE:+-E "$ASAN_EXCLUDE"})
+fi
+
+if [[ $what == tsan || $what == all ]]; then
+  cmake -S . -B "$TSAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCSLAM_SANITIZE=thread
+  cmake --build "$TSAN_DIR" -j "$JOBS" --target cslam cslam_system_tests cslam_cli_tests
+  (cd "$TSAN_DIR" && ctest --output-on-failure -j "$JOBS" --timeout "$TEST_TIMEOUT" -R "$TSAN_TESTS" \
+    ${TSAN_EXCLUDE:+-E "$TSAN_EXCLUDE"})
+fi
