@@ -55,6 +55,14 @@ void LogToFileOnly(const std::string& path) {
   });
 }
 
+// OpenCV's Hershey fonts are ASCII only: the charts' names for BenchColumns() keys.
+std::string AsciiLabel(const std::string& key) {
+  if (key == "accuracy_pct") return "clustering accuracy (%)";
+  if (key == "vi") return "VI (nats)";
+  if (key == "time_s") return "time (s)";
+  return key;
+}
+
 // Two charts side by side: column `left` and column `right` of BenchColumns() against x,
 // one series per preset.
 cv::Mat SweepChart(const BenchSweep& sweep, const std::vector<BenchSequence>& sequences,
@@ -64,9 +72,9 @@ cv::Mat SweepChart(const BenchSweep& sweep, const std::vector<BenchSequence>& se
     size_t col = 0;
     while (BenchColumns()[col].key != key) ++col;
     LineChart chart;
-    chart.title = BenchColumns()[col].header + " vs " + sweep.x_label;
+    chart.title = AsciiLabel(key) + " vs " + sweep.x_label + ", Ours";
     chart.x_label = sweep.x_label;
-    chart.y_label = BenchColumns()[col].header;
+    chart.y_label = AsciiLabel(key);
     for (size_t k = 0; k < sequences.size(); ++k) {
       ChartSeries series;
       series.label = sequences[k].preset + " seed " + std::to_string(sequences[k].seed);
@@ -124,6 +132,7 @@ int Bench(BenchArgs& args) {
     report.total_s = timer.ElapsedS();
     report.interrupted = stop.signal() != 0;
     WriteBenchReport(report, args.out);
+    spdlog::apply_all([](const std::shared_ptr<spdlog::logger>& l) { l->flush(); });
   };
   bar.Update(0, total);
   for (const BenchSequence& seq : sequences) {
@@ -170,14 +179,19 @@ int Bench(BenchArgs& args) {
   bar.Finish();
   save();
 
+  std::vector<const BenchEntry*> all;
+  for (const BenchEntry& e : report.entries) all.push_back(&e);
+  for (const BenchSweep& s : report.sweeps)
+    for (const auto& point : s.entries)
+      for (const BenchEntry& e : point) all.push_back(&e);
   int failed = 0;
-  for (const BenchEntry& e : report.entries) failed += !e.ok;
-  std::printf("bench: %zu runs (%d failed) in %.0f s; wrote %s/bench.json and %s/bench.md\n",
-              report.entries.size(), failed, report.total_s, args.out.c_str(), args.out.c_str());
-  for (const BenchEntry& e : report.entries)
-    if (!e.ok)
-      std::printf("  failed: %s × %s: %s\n", e.sequence.c_str(), e.method.label.c_str(),
-                  e.error.c_str());
+  for (const BenchEntry* e : all) failed += !e->ok;
+  std::printf("bench: %d runs (%d failed) in %.0f s; wrote %s/bench.json and %s/bench.md\n",
+              done, failed, report.total_s, args.out.c_str(), args.out.c_str());
+  for (const BenchEntry* e : all)
+    if (!e->ok)
+      std::printf("  failed: %s × %s: %s\n", e->sequence.c_str(), e->method.label.c_str(),
+                  e->error.c_str());
   if (stop.signal() == SIGINT) return kExitSigint;
   if (stop.signal() == SIGTERM) return kExitSigterm;
   return kExitOk;
@@ -205,7 +219,7 @@ Command AddBenchCommand(CLI::App& app) {
                   "clusterslam (default: all)")
       ->delimiter(',');
   sub->add_option("--noise", args->noise_px, "generator pixel noise, px (default: the generator's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0.0, 3.0));
   sub->add_option("--sweep", args->sweeps,
                   "also sweep `noise` (0-3 px) or `chunk` (chunk length 30-300) with Ours on "
                   "the first indoor and outdoor sequence; repeatable")
