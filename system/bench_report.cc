@@ -31,7 +31,11 @@ json Number(const std::optional<double>& v) {
 std::string Cell(const std::optional<double>& v, int precision) {
   if (!v) return "—";
   char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", precision, *v);
+  // A diverged estimate can be 1e50 m: fixed notation would fill the row with digits.
+  if (std::abs(*v) >= 1e5)
+    std::snprintf(buf, sizeof(buf), "%.2e", *v);
+  else
+    std::snprintf(buf, sizeof(buf), "%.*f", precision, *v);
   return buf;
 }
 

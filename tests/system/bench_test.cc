@@ -111,6 +111,15 @@ TEST(Bench, ARunOnAShortSequenceHasFiniteCameraErrors) {
   EXPECT_EQ(e.chunk_length, BenchPipelineOptions("indoor", full_ba).backend.consensus.chunk_length);
 }
 
+TEST(Bench, MarkdownWritesADivergedEstimateInScientificNotation) {
+  BenchReport report;
+  report.methods = {FindBenchMethod("full-ba")};
+  report.entries = {EntryWithAte("outdoor", "full-ba", 1.5e50), EntryWithAte("outdoor", "full-ba", 0.0125)};
+  const std::string md = BenchMarkdown(report);
+  EXPECT_NE(md.find("| 1.50e+50 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 0.013 |"), std::string::npos) << md;  // the second row, 3 decimals
+}
+
 TEST(Bench, ChunkLengthOverrideKeepsTheOverlapBelowIt) {
   const PipelineOptions o = BenchPipelineOptions("indoor", FindBenchMethod("clusterslam"), 30);
   EXPECT_EQ(o.backend.consensus.chunk_length, 30);
