@@ -149,11 +149,15 @@ int Bench(BenchArgs& args) {
 
   const BenchMethod& ours = FindBenchMethod("clusterslam");
   for (const std::string& name : args.sweeps) {
-    BenchSweep sweep;
+    const std::vector<double>& xs = name == "noise" ? noise_values : chunk_values;
+    // Filled point by point and saved after each, so an interrupted sweep keeps what finished.
+    BenchSweep& sweep = report.sweeps.emplace_back();
     sweep.name = name;
     sweep.x_label = name == "noise" ? "pixel noise (px)" : "chunk length (frames)";
-    sweep.x = name == "noise" ? noise_values : chunk_values;
-    for (double x : sweep.x) {
+    const std::vector<std::string> columns =
+        name == "noise" ? std::vector<std::string>{"accuracy_pct", "vi"}
+                        : std::vector<std::string>{"vi", "time_s"};
+    for (double x : xs) {
       if (stop.signal()) break;
       std::vector<BenchEntry> point;
       for (BenchSequence seq : sweep_sequences) {
@@ -165,16 +169,11 @@ int Bench(BenchArgs& args) {
                                       stop.flag()));
         bar.Update(++done, total);
       }
+      sweep.x.push_back(x);
       sweep.entries.push_back(std::move(point));
+      WritePng(SweepChart(sweep, sweep_sequences, columns), args.out + "/sweep_" + name + ".png");
+      save();
     }
-    sweep.x.resize(sweep.entries.size());
-    report.sweeps.push_back(std::move(sweep));
-    const std::vector<std::string> columns =
-        name == "noise" ? std::vector<std::string>{"accuracy_pct", "vi"}
-                        : std::vector<std::string>{"vi", "time_s"};
-    WritePng(SweepChart(report.sweeps.back(), sweep_sequences, columns),
-             args.out + "/sweep_" + name + ".png");
-    save();
   }
   bar.Finish();
   save();
