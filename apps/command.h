@@ -22,5 +22,7 @@ Command AddSynthCommand(CLI::App& app);
 Command AddRunCommand(CLI::App& app);
 /// `cslam demo`: the embedded synthetic default.
 Command AddDemoCommand(CLI::App& app);
+/// `cslam bench`: every backend method on a generated synthetic suite (Table 1).
+Command AddBenchCommand(CLI::App& app);
 
 }  // namespace cslam::apps

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
       cslam::apps::AddRunCommand(app),
       cslam::apps::AddSynthCommand(app),
       cslam::apps::AddEvalCommand(app),
+      cslam::apps::AddBenchCommand(app),
   };
 
   try {

@@ -110,4 +110,19 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
   return in;
 }
 
+RunInput SyntheticRunInput(SyntheticSequence sequence, int max_frames) {
+  CheckOption(max_frames >= 0, "input.max_frames", "must be >= 0 (0 = all frames)", max_frames);
+  TruncateSynthetic(&sequence, max_frames);
+  RunInput in;
+  in.path = "(generated)";
+  in.name = sequence.name;
+  in.kind = "synthetic";
+  in.camera = sequence.camera;
+  in.timestamps = sequence.timestamps;
+  in.gt_world_from_cam = sequence.world_from_cam;
+  in.observations = sequence.observations;
+  in.synthetic = std::move(sequence);
+  return in;
+}
+
 }  // namespace cslam

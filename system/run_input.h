@@ -45,4 +45,8 @@ struct InputOptions {
 /// was expected when it is none of the known kinds or is malformed.
 RunInput OpenRunInput(const std::string& path, const InputOptions& options);
 
+/// A generated synthetic sequence as an input of replayed tracklets (no images), cut to its
+/// first `max_frames` frames (0 = all) — what OpenRunInput gives for the same sequence on disk.
+RunInput SyntheticRunInput(SyntheticSequence sequence, int max_frames = 0);
+
 }  // namespace cslam

@@ -1,0 +1,230 @@
+// `cslam bench --suite synthetic --out DIR`: the paper's Table 1 protocol on generated
+// sequences (system/bench_suite.h), written to DIR/bench.json and DIR/bench.md; optional
+// sweeps of pixel noise and chunk length with their charts.
+#include <spdlog/sinks/basic_file_sink.h>
+
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "apps/command.h"
+#include "apps/run_support.h"
+#include "core/errors.h"
+#include "core/logging.h"
+#include "core/timer.h"
+#include "system/bench_report.h"
+#include "system/bench_suite.h"
+#include "system/image_io.h"
+#include "system/line_chart.h"
+
+namespace cslam::apps {
+
+namespace {
+
+struct BenchArgs {
+  BenchOptions options;
+  double noise_px = -1;  // < 0: the generator's default
+  std::vector<std::string> sweeps;
+  std::string out = "out/bench";
+  bool progress = true;
+};
+
+// The sweeps' sequences: the first seed of each preset that the suite has.
+std::vector<BenchSequence> SweepSequences(const BenchOptions& o) {
+  std::vector<BenchSequence> all = SuiteSequences(o), out;
+  for (const std::string preset : {"indoor", "outdoor"})
+    for (const BenchSequence& s : all)
+      if (s.preset == preset) {
+        out.push_back(s);
+        break;
+      }
+  return out;
+}
+
+// Every logger writes to `path` only, so the console keeps just the progress bar and summary.
+void LogToFileOnly(const std::string& path) {
+  auto sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>(path, true);
+  sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%n] [%l] %v");
+  const auto def = spdlog::default_logger();
+  def->sinks().assign(1, sink);
+  spdlog::apply_all([&](const std::shared_ptr<spdlog::logger>& l) {
+    if (l != def) l->sinks().assign(1, sink);
+  });
+}
+
+// OpenCV's Hershey fonts are ASCII only: the charts' names for BenchColumns() keys.
+std::string AsciiLabel(const std::string& key) {
+  if (key == "accuracy_pct") return "clustering accuracy (%)";
+  if (key == "vi") return "VI (nats)";
+  if (key == "time_s") return "time (s)";
+  return key;
+}
+
+// Two charts side by side: column `left` and column `right` of BenchColumns() against x,
+// one series per preset.
+cv::Mat SweepChart(const BenchSweep& sweep, const std::vector<BenchSequence>& sequences,
+                   const std::vector<std::string>& column_keys) {
+  std::vector<cv::Mat> panels;
+  for (const std::string& key : column_keys) {
+    size_t col = 0;
+    while (BenchColumns()[col].key != key) ++col;
+    LineChart chart;
+    chart.title = AsciiLabel(key) + " vs " + sweep.x_label + ", Ours";
+    chart.x_label = sweep.x_label;
+    chart.y_label = AsciiLabel(key);
+    for (size_t k = 0; k < sequences.size(); ++k) {
+      ChartSeries series;
+      series.label = sequences[k].preset + " seed " + std::to_string(sequences[k].seed);
+      series.color_bgr = SeriesColor(static_cast<int>(k));
+      for (size_t i = 0; i < sweep.x.size(); ++i) {
+        if (k >= sweep.entries[i].size() || !sweep.entries[i][k].ok) continue;
+        if (const auto v = BenchColumns()[col].value(sweep.entries[i][k].metrics)) {
+          series.x.push_back(sweep.x[i]);
+          series.y.push_back(*v);
+        }
+      }
+      chart.series.push_back(series);
+    }
+    if (key == "accuracy_pct") chart.y_max = 100;
+    if (key != "log_chi2") chart.y_min = 0;
+    panels.push_back(RenderLineChart(chart, 800, 560));
+  }
+  cv::Mat out;
+  cv::hconcat(panels, out);
+  return out;
+}
+
+int Bench(BenchArgs& args) {
+  if (args.noise_px >= 0) args.options.noise_px = args.noise_px;
+  args.options.Check();
+  for (const std::string& s : args.sweeps)
+    if (s != "noise" && s != "chunk")
+      throw ConfigError("--sweep: unknown sweep '" + s + "' (known: noise, chunk)");
+  const BenchOptions& o = args.options;
+  const std::vector<BenchSequence> sequences = SuiteSequences(o);
+  BenchReport report;
+  report.options = o;
+  report.methods = o.SelectedMethods();
+
+  PrepareOutputFolder(args.out);
+  LogToFileOnly(args.out + "/bench.log");
+  auto log = GetLogger("app");
+
+  // Sweep plans: x values and the options of each point.
+  const std::vector<BenchSequence> sweep_sequences = SweepSequences(o);
+  const std::vector<double> noise_values = {0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0};
+  const std::vector<double> chunk_values = {30, 60, 100, 150, 200, 300};
+  int total = static_cast<int>(sequences.size() * report.methods.size());
+  for (const std::string& s : args.sweeps)
+    total += static_cast<int>(sweep_sequences.size() *
+                              (s == "noise" ? noise_values.size() : chunk_values.size()));
+  log->info("bench: suite {}, {} sequences × {} methods, {} runs in all, frames {}", o.suite,
+            sequences.size(), report.methods.size(), total, o.frames);
+
+  const Timer timer;
+  StopFlag stop;
+  ProgressBar bar("runs", args.progress);
+  int done = 0;
+  auto save = [&] {
+    report.total_s = timer.ElapsedS();
+    report.interrupted = stop.signal() != 0;
+    WriteBenchReport(report, args.out);
+    spdlog::apply_all([](const std::shared_ptr<spdlog::logger>& l) { l->flush(); });
+  };
+  bar.Update(0, total);
+  for (const BenchSequence& seq : sequences) {
+    if (stop.signal()) break;
+    const RunInput input = GenerateBenchInput(seq, o.frames);
+    for (const BenchMethod& m : report.methods) {
+      if (stop.signal()) break;
+      report.entries.push_back(
+          RunBenchEntry(input, seq, m, BenchPipelineOptions(seq.preset, m), stop.flag()));
+      bar.Update(++done, total);
+    }
+    save();  // after every sequence, so an interrupted bench keeps what it finished
+  }
+
+  const BenchMethod& ours = FindBenchMethod("clusterslam");
+  for (const std::string& name : args.sweeps) {
+    const std::vector<double>& xs = name == "noise" ? noise_values : chunk_values;
+    // Filled point by point and saved after each, so an interrupted sweep keeps what finished.
+    BenchSweep& sweep = report.sweeps.emplace_back();
+    sweep.name = name;
+    sweep.x_label = name == "noise" ? "pixel noise (px)" : "chunk length (frames)";
+    const std::vector<std::string> columns =
+        name == "noise" ? std::vector<std::string>{"accuracy_pct", "vi"}
+                        : std::vector<std::string>{"vi", "time_s"};
+    for (double x : xs) {
+      if (stop.signal()) break;
+      std::vector<BenchEntry> point;
+      for (BenchSequence seq : sweep_sequences) {
+        if (stop.signal()) break;
+        if (name == "noise") seq.noise_px = x;
+        const int chunk = name == "chunk" ? static_cast<int>(x) : 0;
+        const RunInput input = GenerateBenchInput(seq, o.frames);
+        point.push_back(RunBenchEntry(input, seq, ours, BenchPipelineOptions(seq.preset, ours, chunk),
+                                      stop.flag()));
+        bar.Update(++done, total);
+      }
+      sweep.x.push_back(x);
+      sweep.entries.push_back(std::move(point));
+      WritePng(SweepChart(sweep, sweep_sequences, columns), args.out + "/sweep_" + name + ".png");
+      save();
+    }
+  }
+  bar.Finish();
+  save();
+
+  std::vector<const BenchEntry*> all;
+  for (const BenchEntry& e : report.entries) all.push_back(&e);
+  for (const BenchSweep& s : report.sweeps)
+    for (const auto& point : s.entries)
+      for (const BenchEntry& e : point) all.push_back(&e);
+  int failed = 0;
+  for (const BenchEntry* e : all) failed += !e->ok;
+  std::printf("bench: %d runs (%d failed) in %.0f s; wrote %s/bench.json and %s/bench.md\n",
+              done, failed, report.total_s, args.out.c_str(), args.out.c_str());
+  for (const BenchEntry* e : all)
+    if (!e->ok)
+      std::printf("  failed: %s × %s: %s\n", e->sequence.c_str(), e->method.label.c_str(),
+                  e->error.c_str());
+  if (stop.signal() == SIGINT) return kExitSigint;
+  if (stop.signal() == SIGTERM) return kExitSigterm;
+  return kExitOk;
+}
+
+}  // namespace
+
+Command AddBenchCommand(CLI::App& app) {
+  auto args = std::make_shared<BenchArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "bench", "Run every backend method on a generated synthetic suite (the paper's Table 1) "
+               "and write bench.json and bench.md");
+  sub->add_option("--suite", args->options.suite, "suite of sequences: synthetic")
+      ->capture_default_str();
+  sub->add_option("--out", args->out, "output folder")->capture_default_str();
+  sub->add_option("--frames", args->options.frames,
+                  "cap every sequence to its first N frames (0: whole sequences)")
+      ->capture_default_str();
+  sub->add_option("--seeds-indoor", args->options.seeds_indoor, "indoor sequences (seeds 1..K)")
+      ->capture_default_str();
+  sub->add_option("--seeds-outdoor", args->options.seeds_outdoor, "outdoor sequences (seeds 1..K)")
+      ->capture_default_str();
+  sub->add_option("--methods", args->options.methods,
+                  "comma-separated: full-ba, pdcs, clusterslam-no-u, clusterslam-no-i, "
+                  "clusterslam (default: all)")
+      ->delimiter(',');
+  sub->add_option("--noise", args->noise_px, "generator pixel noise, px (default: the generator's)")
+      ->check(CLI::Range(0.0, 3.0));
+  sub->add_option("--sweep", args->sweeps,
+                  "also sweep `noise` (0-3 px) or `chunk` (chunk length 30-300) with Ours on "
+                  "the first indoor and outdoor sequence; repeatable")
+      ->delimiter(',');
+  sub->add_flag("!--no-progress", args->progress, "no progress bar");
+  return {sub, [args] { return Bench(*args); }};
+}
+
+}  // namespace cslam::apps

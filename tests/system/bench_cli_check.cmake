@@ -1,0 +1,43 @@
+# `cslam bench` end to end (run with cmake -P): a 2-sequence × 2-method suite of 30 frames
+# must write a bench.json with 4 entries, each run with a finite camera ATE, and a bench.md
+# with the Table 1 header. Variables: CSLAM (the program), OUT (a scratch folder).
+file(REMOVE_RECURSE "${OUT}")
+execute_process(
+  COMMAND "${CSLAM}" bench --suite synthetic --seeds-indoor 1 --seeds-outdoor 1 --frames 30
+          --methods full-ba,clusterslam --out "${OUT}" --no-progress
+  RESULT_VARIABLE code)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "cslam bench exited with ${code}")
+endif()
+file(READ "${OUT}/bench.json" json)
+string(JSON n ERROR_VARIABLE err LENGTH "${json}" entries)
+if(err)
+  message(FATAL_ERROR "bench.json does not parse or has no entries: ${err}")
+endif()
+if(NOT n EQUAL 4)
+  message(FATAL_ERROR "bench.json has ${n} entries, expected 4")
+endif()
+math(EXPR last "${n} - 1")
+foreach(i RANGE ${last})
+  string(JSON ok GET "${json}" entries ${i} ok)
+  string(JSON type TYPE "${json}" entries ${i} metrics camera ate_m)
+  string(JSON name GET "${json}" entries ${i} sequence)
+  string(JSON method GET "${json}" entries ${i} method)
+  # JSON cannot spell NaN or infinity: bench.json writes them as null, so NUMBER = finite.
+  if(NOT ok OR NOT type STREQUAL "NUMBER")
+    message(FATAL_ERROR "entry ${i} (${name} × ${method}): ok=${ok}, camera ATE is ${type}")
+  endif()
+endforeach()
+string(JSON means LENGTH "${json}" means)
+if(NOT means EQUAL 4)
+  message(FATAL_ERROR "bench.json has ${means} means, expected 4 (2 presets × 2 methods)")
+endif()
+file(READ "${OUT}/bench.md" md)
+string(FIND "${md}" "| preset | method | runs | log χ² | RMSE (m) | ATE cam. (m) | ATE obj. (m)" at)
+if(at EQUAL -1)
+  message(FATAL_ERROR "bench.md has no Table 1 header")
+endif()
+file(GLOB leftovers "${OUT}/*tmp*" "${OUT}/.*tmp*")
+if(leftovers)
+  message(FATAL_ERROR "temporary files left: ${leftovers}")
+endif()
