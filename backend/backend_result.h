@@ -16,7 +16,6 @@ struct IterationDiagnostics {
   int reassigned = 0;            ///< model assignment [ours]: landmarks moved to another model
   int outliers = 0;              ///< model assignment: landmarks no model explained (re-clustered)
   int merges = 0;                ///< model assignment: clusters merged into another
-  bool trimmed = false;          ///< model assignment: static cluster trimmed, nothing else
   double clustering_ms = 0.0;    ///< motion distance + HAC + consensus (or model assignment)
   double estimation_ms = 0.0;    ///< shape initialisation + bundle adjustment
 };

@@ -137,7 +137,6 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
   diag->reassigned = a.reassigned;
   diag->outliers = static_cast<int>(a.outliers.size());
   diag->merges = a.merges;
-  diag->trimmed = a.trimmed;
   if (static_cast<int>(a.outliers.size()) >= options.assignment.min_outlier_cluster) {
     PointTracks outliers(raw.size());
     for (int l : a.outliers) outliers[l] = raw[l];
@@ -216,9 +215,8 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
     result.iterations.push_back(diag);
     if (assign)
       log->info("clusterslam iteration {}: {} clusters ({} reassigned, {} outliers re-clustered, "
-                "{} merges{}), VI {:.4f}, chi2 {:.1f}, assignment {:.1f} ms, estimation {:.1f} ms",
+                "{} merges), VI {:.4f}, chi2 {:.1f}, assignment {:.1f} ms, estimation {:.1f} ms",
                 k, diag.num_clusters, diag.reassigned, diag.outliers, diag.merges,
-                diag.trimmed ? ", static cluster trimmed" : "",
                 diag.vi_to_previous, diag.chi2, diag.clustering_ms, diag.estimation_ms);
     else
       log->info("clusterslam iteration {}: {} clusters (IVC {} sweeps{}), VI {:.4f}, chi2 {:.1f}, "

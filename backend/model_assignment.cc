@@ -22,8 +22,6 @@ void ModelAssignmentOptions::Check() const {
               "must be >= 0", merge_slack);
   CheckOption(std::isfinite(outlier_alpha) && outlier_alpha >= 0, "model_assignment.outlier_alpha",
               "must be >= 0", outlier_alpha);
-  CheckOption(min_static_fit >= 0 && min_static_fit <= 1, "model_assignment.min_static_fit",
-              "must be in [0, 1]", min_static_fit);
   CheckOption(min_outlier_cluster >= 1, "model_assignment.min_outlier_cluster", "must be >= 1",
               min_outlier_cluster);
 }
@@ -38,8 +36,6 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("merge_slack", &merge_slack);
   reader.Read("outlier_alpha", &outlier_alpha);
   reader.Read("min_outlier_cluster", &min_outlier_cluster);
-  reader.Read("min_static_fit", &min_static_fit);
-  reader.Read("scale_by_static_median", &scale_by_static_median);
 }
 
 namespace {
@@ -154,80 +150,33 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
   std::map<int, Under> own;             // under the cluster's own model
   std::map<int, std::map<int, Under>> other;
 
-  // Costs of every landmark under every model (negative: not covered).
-  std::vector<int> landmarks;
-  std::vector<std::vector<double>> costs;
+  std::vector<double> cost(models.size());
   for (int l = 0; l < static_cast<int>(tracks.size()); ++l) {
     if (static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
-    const std::vector<Eigen::Matrix3d> info = Informations(tracks[l]);
-    std::vector<double> c(models.size());
-    for (size_t m = 0; m < models.size(); ++m)
-      c[m] = CostUnder(tracks[l], info, models[m], options.min_coverage);
-    landmarks.push_back(l);
-    costs.push_back(std::move(c));
-  }
-
-  // Robust scale of the costs: the median static landmark's cost under the static motion is
-  // ≈ 1 when the keypoint covariances are right; real frontends' covariances are only
-  // approximately right, so every threshold is scaled by that median when it is above 1.
-  std::vector<std::pair<double, int>> static_costs;  // (cost under static, landmark), label 0
-  for (size_t k = 0; k < landmarks.size(); ++k) {
-    const int l = landmarks[k];
-    if (l < static_cast<int>(labels.size()) && labels[l] == 0 && models[0].label == 0 &&
-        costs[k][0] >= 0)
-      static_costs.emplace_back(costs[k][0], l);
-  }
-  double scale = 1.0;
-  if (options.scale_by_static_median && !static_costs.empty()) {
-    std::vector<double> v;
-    for (const auto& [c, l] : static_costs) v.push_back(c);
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    scale = std::max(1.0, v[v.size() / 2]);
-  }
-  out.cost_scale = scale;
-  const double fit_threshold = options.fit_threshold * scale;
-  const double static_margin = options.static_margin * scale;
-
-  for (size_t k = 0; k < landmarks.size(); ++k) {
-    const int l = landmarks[k];
-    const std::vector<double>& cost = costs[k];
     const int label = l < static_cast<int>(labels.size()) ? labels[l] : -1;
+    const std::vector<Eigen::Matrix3d> info = Informations(tracks[l]);
     int best = -1;
     double best_score = std::numeric_limits<double>::infinity(), best_cost = 0.0;
     for (size_t m = 0; m < models.size(); ++m) {
+      cost[m] = CostUnder(tracks[l], info, models[m], options.min_coverage);
       if (cost[m] < 0) continue;
-      const double score = cost[m] + (models[m].label != 0 ? static_margin : 0.0);
+      const double score = cost[m] + (models[m].label != 0 ? options.static_margin : 0.0);
       if (score < best_score) best_score = score, best = models[m].label, best_cost = cost[m];
       if (label < 0) continue;
       Under& u = models[m].label == label ? own[label] : other[label][models[m].label];
       ++u.covered;
       u.sum += cost[m];
-      if (cost[m] <= fit_threshold) ++u.fits;
+      if (cost[m] <= options.fit_threshold) ++u.fits;
     }
     if (label >= 0) ++members[label];
     if (best < 0) continue;  // no model covers the track: keep what it had
-    if (best_cost > fit_threshold) {
+    if (best_cost > options.fit_threshold) {
       out.outliers.push_back(l);
       out.labels[l] = -1;
       continue;
     }
     if (best != label) ++out.reassigned;
     out.labels[l] = best;
-  }
-
-  // A static motion that most static landmarks do not fit is wrong: trim, do nothing else.
-  int static_fits = 0;
-  for (const auto& [c, l] : static_costs) static_fits += c <= fit_threshold;
-  if (!static_costs.empty() &&
-      static_fits < options.min_static_fit * static_cast<double>(static_costs.size())) {
-    out = ModelAssignment{};
-    out.labels = labels;
-    out.labels.resize(tracks.size(), -1);
-    out.trimmed = true;
-    std::sort(static_costs.begin(), static_costs.end());
-    for (size_t k = static_costs.size() / 2; k < static_costs.size(); ++k)
-      out.labels[static_costs[k].second] = -1;
-    return out;
   }
 
   // Merges: p into the model q that explains p's landmarks about as well as p's own; only
@@ -244,8 +193,7 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
       if (u.covered < options.merge_fraction * n || u.fits < options.merge_fraction * u.covered)
         continue;
       const double mean = u.sum / u.covered;
-      if (mean > std::max(options.merge_ratio * own_mean, own_mean + options.merge_slack * scale))
-        continue;
+      if (mean > std::max(options.merge_ratio * own_mean, own_mean + options.merge_slack)) continue;
       if (q == 0 || (target != 0 && mean < target_mean)) target = q, target_mean = mean;
     }
     if (target >= 0) into[p] = target;

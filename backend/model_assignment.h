@@ -40,16 +40,6 @@ struct ModelAssignmentOptions {
   double outlier_alpha = 4e-4;  ///< image-prior weight (Eq. 1) when re-clustering outliers:
                                 ///< objects are told apart by where they are in the image
   int min_outlier_cluster = 5;  ///< smaller groups of re-clustered outliers stay unlabelled
-  /// When fewer than this fraction of the static cluster's landmarks fit the static motion,
-  /// that motion is itself wrong (moving bodies in the static cluster pulled the camera):
-  /// the round only trims the static cluster to its better-fitting half (the rest unlabelled)
-  /// so the next estimate follows the static majority, instead of declaring most of the
-  /// scene outliers.
-  /// Thresholds (fit, margin, merge slack) are multiplied by the median static landmark's
-  /// cost under the static motion when that is above 1: the costs assume the keypoint
-  /// covariances are right, which a real frontend's are only roughly.
-  bool scale_by_static_median = false;  ///< off: measured no change on KITTI 0005, worse on synthetic
-  double min_static_fit = 0.0;  ///< 0 = off: measured to cost accuracy (docs/benchmarks.md)
 
   void Check() const;
   void Load(OptionsReader& reader);
@@ -61,9 +51,6 @@ struct ModelAssignment {
   std::vector<int> outliers;  ///< landmark ids no model explains (labels[l] = -1 for them)
   int reassigned = 0;         ///< landmarks whose label changed to another model
   int merges = 0;             ///< clusters merged into another
-  double cost_scale = 1.0;    ///< the scale applied to the thresholds (scale_by_static_median)
-  bool trimmed = false;       ///< the static motion fitted too few of its landmarks: this
-                              ///< round only trimmed the static cluster (see min_static_fit)
 };
 
 /// Reduced χ² of `track` under the motion of cluster `label` in `estimate` (0 = static: the
