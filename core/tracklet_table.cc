@@ -1,6 +1,7 @@
 #include "core/tracklet_table.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include "core/errors.h"
 
@@ -26,13 +27,18 @@ std::vector<FrameRange> SplitIntoChunks(int num_frames, int length, int overlap)
 
 int TrackletTable::NewLandmark() {
   by_landmark_.emplace_back();
+  spans_.emplace_back();
   return num_landmarks() - 1;
 }
 
 bool TrackletTable::Add(int landmark, int frame, const Eigen::Vector3d& x,
                         const Eigen::Matrix3d& cov) {
   CSLAM_CHECK(landmark >= 0 && frame >= 0, "negative landmark or frame id");
-  if (landmark >= num_landmarks()) by_landmark_.resize(landmark + 1);
+  CSLAM_CHECK(frame >= first_held_frame_, "observation added to a forgotten frame");
+  if (landmark >= num_landmarks()) {
+    by_landmark_.resize(landmark + 1);
+    spans_.resize(landmark + 1);
+  }
   if (frame >= num_frames()) by_frame_.resize(frame + 1);
   auto& obs = by_landmark_[landmark];
   auto it = std::lower_bound(obs.begin(), obs.end(), frame,
@@ -55,7 +61,41 @@ bool TrackletTable::Add(int landmark, int frame, const Eigen::Vector3d& x,
                               [](const ObservationRef& r, int l) { return r.landmark < l; });
   refs.insert(pos, ref);
   ++num_observations_;
+  LandmarkSpan& span = spans_[landmark];
+  span.first_frame = span.observations == 0 ? frame : std::min(span.first_frame, frame);
+  span.last_frame = std::max(span.last_frame, frame);
+  ++span.observations;
   return true;
+}
+
+const LandmarkSpan& TrackletTable::Span(int landmark) const {
+  CSLAM_CHECK(landmark >= 0 && landmark < num_landmarks(), "landmark id out of range");
+  return spans_[landmark];
+}
+
+void TrackletTable::ForgetBefore(int frame) {
+  frame = std::min(frame, num_frames());
+  if (frame <= first_held_frame_) return;
+  // Observations are sorted by frame per landmark, so each landmark loses a prefix; the
+  // frame refs of the frames kept index into those vectors and shift by the same amount.
+  std::unordered_map<int, int> dropped;
+  for (int f = first_held_frame_; f < frame; ++f) {
+    for (const ObservationRef& ref : by_frame_[f]) ++dropped[ref.landmark];
+    num_observations_ -= by_frame_[f].size();
+    std::vector<ObservationRef>().swap(by_frame_[f]);
+  }
+  for (const auto& [landmark, n] : dropped) {
+    auto& obs = by_landmark_[landmark];
+    obs.erase(obs.begin(), obs.begin() + n);
+    // A finished track frees its memory; a live one only when it holds far more than it uses.
+    if (obs.capacity() > 2 * obs.size() + 8) obs.shrink_to_fit();
+  }
+  for (int f = frame; f < num_frames(); ++f)
+    for (ObservationRef& ref : by_frame_[f]) {
+      const auto it = dropped.find(ref.landmark);
+      if (it != dropped.end()) ref.index -= it->second;
+    }
+  first_held_frame_ = frame;
 }
 
 std::span<const StereoObservation> TrackletTable::ObservationsOf(int landmark) const {
@@ -118,6 +158,7 @@ std::vector<int> TrackletTable::CoObservedFrames(int a, int b, FrameRange range)
 TrackletTable TrackletTable::Slice(FrameRange range) const {
   TrackletTable out;
   out.by_landmark_.resize(by_landmark_.size());
+  out.spans_.resize(spans_.size());
   for (int l : LandmarksIn(range)) {
     for (const auto& o : ObservationsOf(l, range)) out.Add(l, o.frame, o.x, o.cov);
   }

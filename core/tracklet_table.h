@@ -29,6 +29,14 @@ struct FrameRange {
 /// the overlap (already covered) is not emitted. Precondition: 0 <= overlap < length.
 std::vector<FrameRange> SplitIntoChunks(int num_frames, int length, int overlap);
 
+/// A landmark's whole track, kept when its observations are forgotten: the first and last
+/// frame it was observed in and how many observations it had.
+struct LandmarkSpan {
+  int first_frame = -1;
+  int last_frame = -1;
+  int observations = 0;
+};
+
 /// Reference to an observation stored in the table.
 struct ObservationRef {
   int landmark = -1;
@@ -50,6 +58,7 @@ class TrackletTable {
   int num_landmarks() const { return static_cast<int>(by_landmark_.size()); }
   /// One past the largest frame index seen.
   int num_frames() const { return static_cast<int>(by_frame_.size()); }
+  /// Observations held now (forgotten ones are not counted).
   size_t num_observations() const { return num_observations_; }
 
   /// All observations of a landmark, sorted by frame.
@@ -72,10 +81,21 @@ class TrackletTable {
   /// window to another thread.
   TrackletTable Slice(FrameRange range) const;
 
+  /// Releases the observations of every frame before `frame` (a long online run keeps only
+  /// what later windows need); spans, landmark ids and frame numbering are kept. Frames
+  /// before `frame` then have no observations. Adding to a forgotten frame is an error.
+  void ForgetBefore(int frame);
+  /// First frame whose observations are still held (0 unless ForgetBefore was called).
+  int first_held_frame() const { return first_held_frame_; }
+  /// The landmark's whole track, including forgotten observations.
+  const LandmarkSpan& Span(int landmark) const;
+
  private:
   std::vector<std::vector<StereoObservation>> by_landmark_;
   std::vector<std::vector<ObservationRef>> by_frame_;
+  std::vector<LandmarkSpan> spans_;
   size_t num_observations_ = 0;
+  int first_held_frame_ = 0;
 };
 
 }  // namespace cslam

@@ -40,8 +40,17 @@ class TrackingStage {
 
   TrackletTable& table() { return table_; }
 
+  /// Online mode: once `frame` is tracked and its windows are cut, frames more than a window
+  /// back are never read again (windows, break checks and pending tracks look back at most
+  /// window_frames frames).
+  void ForgetOld(int frame) {
+    if (keep_frames_ > 0) table_.ForgetBefore(frame + 1 - keep_frames_);
+  }
+  void EnableForgetting(int keep_frames) { keep_frames_ = keep_frames; }
+
  private:
   const RunInput& input_;
+  int keep_frames_ = 0;
   std::optional<StereoFrontend> frontend_;
   TrackletTable table_;
 };
@@ -109,6 +118,9 @@ class BackendStage {
   MapState map_;
   std::optional<BackendResult> last_result_;
 };
+
+// Frames between two samples of resident memory and time (resources.csv).
+constexpr int kResourceSampleEvery = 10;
 
 // A stretch after a tracking break needs this many frames to be worth a backend call.
 constexpr int kMinClippedFrames = 3;
@@ -201,6 +213,18 @@ std::vector<FrameRange> SegmentsBetweenBreaks(const TrackletTable& table, int fr
 
 bool StopRequested(const std::atomic<bool>* stop) { return stop && stop->load(); }
 
+// Whether the online system may release old observations (OnlineOptions::forget_observations):
+// not when the ground truth labels the frontend's landmarks from every observation.
+bool MayForget(const RunInput& input, const OnlineOptions& o) {
+  if (!o.forget_observations) return false;
+  if (input.kind == "synthetic_images" || (input.kind == "kitti_raw" && !input.gt_boxes.empty())) {
+    GetLogger("system")->info("observations kept for the whole run: the ground truth labels "
+                              "landmarks from them");
+    return false;
+  }
+  return true;
+}
+
 struct FrameItem {
   int index = 0;
   std::optional<StereoFrame> images;
@@ -244,6 +268,7 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
                     PipelineResult* out, const std::function<void(int)>& after_frame) {
   const int n = input.num_frames();
   double read_ms = 0;
+  ResourceSampler sampler(kResourceSampleEvery);
   for (int f = 0; f < n; ++f) {
     if (StopRequested(stop)) {
       out->interrupted = true;
@@ -260,8 +285,11 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
       out->frontend_frames.push_back(*s);
     out->frames_processed = f + 1;
     if (after_frame) after_frame(f);
+    sampler.AfterFrame(f + 1);
     if (progress) progress(f + 1, n);
   }
+  sampler.Finish(out->frames_processed);
+  out->resources = std::move(sampler.samples());
   return read_ms;
 }
 
@@ -292,11 +320,14 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
   TrackingStage tracking(input, options.frontend);
   BackendStage backend(input.camera, options, backend_fn);
   WindowScheduler windows(options.online);
+  if (MayForget(input, options.online))
+    tracking.EnableForgetting(options.online.window_frames + options.online.window_every);
   auto run_window = [&](FrameRange w) {
     out.windows.push_back(backend.Process(tracking.table().Slice(w), w));
   };
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, [&](int f) {
     for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) run_window(w);
+    tracking.ForgetOld(f);
   });
   if (!out.interrupted)
     if (auto w = windows.Final(out.frames_processed)) run_window(*w);
@@ -315,6 +346,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   BoundedQueue<FrameItem> frames(online.frame_queue);
   BoundedQueue<WindowJob> jobs(online.window_queue);
   TrackingStage tracking(input, options.frontend);
+  if (MayForget(input, online)) tracking.EnableForgetting(online.window_frames + online.window_every);
   BackendStage backend(input.camera, options, backend_fn);
   std::exception_ptr reader_error, frontend_error, backend_error;
   std::atomic<bool> abort{false};
@@ -335,6 +367,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
     frames.Stop();
   });
 
+  ResourceSampler sampler(kResourceSampleEvery);
   std::thread frontend([&] {
     WindowScheduler windows(online);
     try {
@@ -359,6 +392,8 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
             break;
           }
         }
+        tracking.ForgetOld(f);
+        sampler.AfterFrame(f + 1);
       }
       if (!stopping() && !backend_gone) {
         if (auto w = windows.Final(out.frames_processed))
@@ -389,6 +424,8 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   reader.join();
   frontend.join();
   backend_thread.join();
+  sampler.Finish(out.frames_processed);
+  out.resources = std::move(sampler.samples());
   out.interrupted = StopRequested(stop);
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
   out.map = std::move(backend.map());

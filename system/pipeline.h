@@ -16,6 +16,7 @@
 #include "frontend/stereo_frontend.h"
 #include "system/map_state.h"
 #include "system/pipeline_options.h"
+#include "system/resource_log.h"
 #include "system/run_input.h"
 
 namespace cslam {
@@ -42,6 +43,8 @@ struct PipelineResult {
   bool interrupted = false;  ///< stopped by a stop request before the end of the input
   double total_s = 0.0;
   double read_ms_per_frame = 0.0;
+  /// Resident memory and time every few frames (resources.csv, render/resources.png).
+  std::vector<ResourceSample> resources;
   /// A failure part-way (e.g. a corrupt image): the run stopped there; everything above is
   /// what was estimated before it. The caller writes the outputs, then rethrows.
   std::exception_ptr error;

@@ -24,6 +24,7 @@ void OnlineOptions::Load(OptionsReader& r) {
   r.Read("realtime", &realtime);
   r.Read("sequential", &sequential);
   r.Read("min_shared_landmarks", &min_shared_landmarks);
+  r.Read("forget_observations", &forget_observations);
   r.Finish();
 }
 

@@ -24,6 +24,10 @@ struct OnlineOptions {
   /// Consecutive frames sharing fewer landmarks than this are a tracking break (black or
   /// textureless frames, a jump): no window spans one; the map chains across it as a gap.
   int min_shared_landmarks = 5;
+  /// Release observations older than any later window needs, so memory stays flat on long
+  /// runs. Kept anyway when the ground truth labels landmarks from their observations
+  /// (synthetic images, KITTI raw with tracklet boxes) and in batch mode.
+  bool forget_observations = true;
   void Check() const;
   void Load(OptionsReader& r);
 };

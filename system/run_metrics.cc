@@ -24,7 +24,7 @@ constexpr int kMinObservationsToCluster = 4;
 std::vector<int> ClusterableLandmarks(const TrackletTable& table) {
   std::vector<int> ids;
   for (int l = 0; l < table.num_landmarks(); ++l)
-    if (static_cast<int>(table.ObservationsOf(l).size()) >= kMinObservationsToCluster)
+    if (table.Span(l).observations >= kMinObservationsToCluster)
       ids.push_back(l);
   return ids;
 }
@@ -78,6 +78,8 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
   const SyntheticSequence& seq = *input.synthetic;
   const MapState& map = result.map;
   const TrackletTable& table = result.table;
+  // Replayed tracklets are all in the input, even when the online run released its copy.
+  const TrackletTable& all_observations = input.observations ? *input.observations : table;
   // Replayed tracklets share the generator's landmark ids; a frontend's landmarks on rendered
   // images are labelled by the object-id image under their first keypoint.
   LandmarkTruth lm_truth;
@@ -138,7 +140,8 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
   double se = 0;
   long long n = 0;
   for (int l : ids) {
-    for (const StereoObservation& o : table.ObservationsOf(l)) {
+    for (const StereoObservation& o : all_observations.ObservationsOf(l)) {
+      if (o.frame >= result.frames_processed) break;
       const auto p = map.WorldPosition(l, o.frame);
       if (!p) continue;
       se += (*p - seq.world_from_object[lm_truth.object[l]][o.frame] * lm_truth.in_object[l]).squaredNorm();

@@ -25,15 +25,11 @@ double TimestampOf(const std::vector<double>& timestamps, int frame) {
 
 // The frame each landmark was last observed in (where its world position is reported).
 int LastFrameOf(const TrackletTable& table, int landmark) {
-  if (landmark >= table.num_landmarks()) return -1;
-  const auto obs = table.ObservationsOf(landmark);
-  return obs.empty() ? -1 : obs.back().frame;
+  return landmark < table.num_landmarks() ? table.Span(landmark).last_frame : -1;
 }
 
 int FirstFrameOf(const TrackletTable& table, int landmark) {
-  if (landmark >= table.num_landmarks()) return -1;
-  const auto obs = table.ObservationsOf(landmark);
-  return obs.empty() ? -1 : obs.front().frame;
+  return landmark < table.num_landmarks() ? table.Span(landmark).first_frame : -1;
 }
 
 }  // namespace
@@ -183,6 +179,7 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     }
   }
 
+  WriteResourceLog(result.resources, out_dir, options.output.trajectory_plot);
   if (metrics) WriteMetricsJson(*metrics, (out / "metrics.json").string());
 }
 

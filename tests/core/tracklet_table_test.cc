@@ -86,6 +86,41 @@ TEST(TrackletTable, SliceKeepsIdsAndOnlyTheRange) {
   EXPECT_EQ(s.num_observations(), 8u);
 }
 
+TEST(TrackletTable, ForgetBeforeKeepsLaterFramesIntactAndSpansWhole) {
+  TrackletTable t = Sample();
+  const TrackletTable before = t;
+  t.ForgetBefore(10);
+  EXPECT_EQ(t.first_held_frame(), 10);
+  for (int f = 0; f < 10; ++f) EXPECT_TRUE(t.ObservationsAt(f).empty());
+  size_t held = 0;
+  for (int f = 10; f < t.num_frames(); ++f) {
+    ASSERT_EQ(t.ObservationsAt(f).size(), before.ObservationsAt(f).size());
+    for (size_t k = 0; k < t.ObservationsAt(f).size(); ++k) {
+      // Refs still address the same observation after each landmark lost its prefix.
+      const StereoObservation& a = t.Get(t.ObservationsAt(f)[k]);
+      const StereoObservation& b = before.Get(before.ObservationsAt(f)[k]);
+      EXPECT_EQ(a.landmark, b.landmark);
+      EXPECT_EQ(a.frame, f);
+      EXPECT_EQ(a.x, b.x);
+    }
+    held += t.ObservationsAt(f).size();
+  }
+  EXPECT_EQ(t.num_observations(), held);
+  EXPECT_LT(t.num_observations(), before.num_observations());
+  for (int l = 0; l < t.num_landmarks(); ++l) {
+    for (const StereoObservation& o : t.ObservationsOf(l)) EXPECT_GE(o.frame, 10);
+    EXPECT_EQ(t.Span(l).first_frame, before.ObservationsOf(l).front().frame);
+    EXPECT_EQ(t.Span(l).last_frame, before.ObservationsOf(l).back().frame);
+    EXPECT_EQ(t.Span(l).observations, static_cast<int>(before.ObservationsOf(l).size()));
+  }
+  EXPECT_EQ(t.LandmarksIn({0, 10}).size(), 0u);
+  EXPECT_EQ(t.LandmarksIn({10, 20}), before.LandmarksIn({10, 20}));
+  // Tracks go on after forgetting, and a forgotten frame cannot be written again.
+  EXPECT_TRUE(t.Add(1, t.num_frames(), Eigen::Vector3d(1, 2, 3), Eigen::Matrix3d::Identity()));
+  EXPECT_EQ(t.Span(1).observations, static_cast<int>(before.ObservationsOf(1).size()) + 1);
+  EXPECT_DEATH(t.Add(0, 3, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity()), "forgotten frame");
+}
+
 TEST(SplitIntoChunks, OverlapsAndCoversEveryFrame) {
   const auto chunks = SplitIntoChunks(250, 100, 25);
   ASSERT_EQ(chunks.size(), 3u);

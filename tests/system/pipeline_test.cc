@@ -58,7 +58,43 @@ TEST(Pipeline, ThreadedOnlineRunEqualsTheSequentialOne) {
     EXPECT_TRUE(testing::PoseNear(*seq.map.world_from_cam()[f], *thr.map.world_from_cam()[f],
                                   1e-12, 1e-12));
   }
-  EXPECT_EQ(seq.table.num_observations(), in.observations->num_observations());
+  // Every observation was replayed; the online run released the frames no window needs any
+  // more but kept each landmark's span.
+  long long replayed = 0;
+  for (int l = 0; l < seq.table.num_landmarks(); ++l) replayed += seq.table.Span(l).observations;
+  EXPECT_EQ(replayed, static_cast<long long>(in.observations->num_observations()));
+  EXPECT_GT(seq.table.first_held_frame(), 0);
+  EXPECT_LT(seq.table.num_observations(), in.observations->num_observations());
+}
+
+TEST(Pipeline, ForgettingOldObservationsChangesNoResult) {
+  const RunInput in = SmallSyntheticInput();
+  PipelineOptions keep = OnlineOptionsFor(true);
+  keep.online.forget_observations = false;
+  const PipelineResult forgot = RunPipeline(in, OnlineOptionsFor(true));
+  const PipelineResult kept = RunPipeline(in, keep);
+  EXPECT_EQ(kept.table.num_observations(), in.observations->num_observations());
+  EXPECT_EQ(kept.table.first_held_frame(), 0);
+  EXPECT_GT(forgot.table.first_held_frame(), 0);
+  ASSERT_EQ(forgot.map.num_frames(), kept.map.num_frames());
+  for (int f = 0; f < kept.map.num_frames(); ++f) {
+    ASSERT_EQ(forgot.map.world_from_cam()[f].has_value(), kept.map.world_from_cam()[f].has_value());
+    if (kept.map.world_from_cam()[f])
+      EXPECT_TRUE(forgot.map.world_from_cam()[f]->matrix() == kept.map.world_from_cam()[f]->matrix()) << f;
+  }
+  EXPECT_EQ(forgot.map.Landmarks(), kept.map.Landmarks());
+  for (int l : kept.map.Landmarks()) EXPECT_EQ(forgot.map.ClusterOf(l), kept.map.ClusterOf(l));
+}
+
+TEST(Pipeline, ResourcesAreSampledOverTheRun) {
+  const PipelineResult r = RunPipeline(SmallSyntheticInput(), OnlineOptionsFor(true));
+  ASSERT_GE(r.resources.size(), 2u);
+  EXPECT_EQ(r.resources.back().frame, r.frames_processed);
+  for (size_t i = 1; i < r.resources.size(); ++i) {
+    EXPECT_GT(r.resources[i].frame, r.resources[i - 1].frame);
+    EXPECT_GE(r.resources[i].elapsed_s, r.resources[i - 1].elapsed_s);
+  }
+  EXPECT_GT(r.resources.back().rss_mb, 1.0);  // this process holds at least a few MiB
 }
 
 TEST(Pipeline, AStopRequestBeforeTheFirstFrameEndsWithNothingProcessed) {
