@@ -78,7 +78,7 @@ Trajectory ReadRequiredKitti(const fs::path& file, const std::string& what) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec))
     throw InputError(file.string(), "missing: expected the " + what +
-                                        " a finished `cslam run` writes (is this its --out folder?)");
+                                        " a finished 'cslam run' writes (is this its --out folder?)");
   return ReadTrajectory(file.string(), TrajectoryFormat::kKitti);
 }
 
@@ -88,7 +88,7 @@ RunOutputs ReadRunOutputs(const std::string& out_dir) {
   const fs::path out(out_dir);
   std::error_code ec;
   if (!fs::is_directory(out, ec))
-    throw InputError(out_dir, "expected the output folder of a finished `cslam run`, found " +
+    throw InputError(out_dir, "expected the output folder of a finished 'cslam run', found " +
                                   std::string(fs::exists(out, ec) ? "a file" : "nothing"));
   RunOutputs outputs;
   outputs.camera = ReadRequiredKitti(out / "camera_trajectory.txt", "camera trajectory");
