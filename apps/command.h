@@ -24,5 +24,7 @@ Command AddRunCommand(CLI::App& app);
 Command AddDemoCommand(CLI::App& app);
 /// `cslam bench`: every backend method on a generated synthetic suite (Table 1).
 Command AddBenchCommand(CLI::App& app);
+/// `cslam render OUT`: the pictures of a finished run, drawn again from its output files.
+Command AddRenderCommand(CLI::App& app);
 
 }  // namespace cslam::apps

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       cslam::apps::AddSynthCommand(app),
       cslam::apps::AddEvalCommand(app),
       cslam::apps::AddBenchCommand(app),
+      cslam::apps::AddRenderCommand(app),
   };
 
   try {

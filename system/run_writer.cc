@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <iomanip>
-#include <map>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -10,8 +9,9 @@
 #include "system/image_io.h"
 #include "system/point_cloud_export.h"
 #include "system/render_scene.h"
+#include "system/run_outputs.h"
+#include "system/run_trajectory_plot.h"
 #include "system/trajectory_io.h"
-#include "system/trajectory_plot.h"
 
 namespace cslam {
 
@@ -74,6 +74,24 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     });
   }
 
+  // What the pictures are drawn from, as `cslam render` reads it back (system/run_outputs.h).
+  RunOutputs outputs;
+  outputs.camera = camera;
+  if (input.gt_world_from_cam) {
+    // The ground truth of the frames with an estimate, so the two files align line by line.
+    for (size_t k = 0; k < camera.frames.size(); ++k) {
+      const int f = camera.frames[k];
+      if (f >= static_cast<int>(input.gt_world_from_cam->size())) continue;
+      outputs.gt_camera.frames.push_back(f);
+      outputs.gt_camera.timestamps.push_back(camera.timestamps[k]);
+      outputs.gt_camera.poses.push_back((*input.gt_world_from_cam)[f]);
+    }
+    WriteTrajectory(outputs.gt_camera, (out / "camera_trajectory_gt.txt").string(),
+                    TrajectoryFormat::kKitti);
+    WriteTrajectory(outputs.gt_camera, (out / "camera_trajectory_gt.tum").string(),
+                    TrajectoryFormat::kTum);
+  }
+
   WriteFileAtomically((out / "objects" / "index.csv").string(), [&](std::ostream& o) {
     o << "cluster,first_frame,last_frame,frames,landmarks\n";
     for (const auto& [id, c] : map.clusters()) {
@@ -85,7 +103,7 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
   });
   for (const auto& [id, c] : map.clusters()) {
     if (c.world_from_cluster.empty()) continue;
-    const Trajectory t = ClusterTrajectory(c, input.timestamps);
+    const Trajectory& t = outputs.clusters[id] = ClusterTrajectory(c, input.timestamps);
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
     WriteTrajectory(t, stem + ".tum", TrajectoryFormat::kTum);
@@ -95,25 +113,27 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
   }
 
   std::vector<RenderPoint> cloud;
+  for (int l : map.Landmarks()) {
+    const int last = LastFrameOf(result.table, l);
+    const int cluster = map.ClusterOf(l);
+    // Moving landmarks are placed where their cluster was when they were last seen (or at
+    // the cluster's last pose when it has none for that frame): PlacingPoseIndex.
+    std::optional<Eigen::Vector3d> p = map.WorldPosition(l, last);
+    if (!p && cluster >= 1) {
+      const auto it = map.clusters().find(cluster);
+      if (it != map.clusters().end() && !it->second.world_from_cluster.empty())
+        p = it->second.world_from_cluster.rbegin()->second * *map.PositionInCluster(l);
+    }
+    if (!p) continue;
+    outputs.landmarks.push_back({l, cluster, FirstFrameOf(result.table, l), last, *p});
+    cloud.push_back({*p, cluster});
+  }
   WriteFileAtomically((out / "clusters.csv").string(), [&](std::ostream& o) {
     o << "landmark,cluster,first_frame,last_frame,x,y,z\n";
     o << std::setprecision(9);
-    for (int l : map.Landmarks()) {
-      const int last = LastFrameOf(result.table, l);
-      const int cluster = map.ClusterOf(l);
-      // Moving landmarks are placed where their cluster was when they were last seen (or at
-      // the cluster's last pose when it has none for that frame).
-      std::optional<Eigen::Vector3d> p = map.WorldPosition(l, last);
-      if (!p && cluster >= 1) {
-        const auto it = map.clusters().find(cluster);
-        if (it != map.clusters().end() && !it->second.world_from_cluster.empty())
-          p = it->second.world_from_cluster.rbegin()->second * *map.PositionInCluster(l);
-      }
-      if (!p) continue;
-      o << l << "," << cluster << "," << FirstFrameOf(result.table, l) << "," << last << ","
-        << p->x() << "," << p->y() << "," << p->z() << "\n";
-      cloud.push_back({*p, cluster});
-    }
+    for (const RunLandmark& l : outputs.landmarks)
+      o << l.id << "," << l.cluster << "," << l.first_frame << "," << l.last_frame << ","
+        << l.p_world.x() << "," << l.p_world.y() << "," << l.p_world.z() << "\n";
   });
   WriteLandmarkClouds(cloud, (out / "landmarks.ply").string(), (out / "landmarks.pcd").string());
 
@@ -121,57 +141,8 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                       [&](std::ostream& o) { o << options.ToYaml(); });
 
   if (options.output.trajectory_plot) {
-    std::vector<RenderTrajectory> trajs;
-    if (input.gt_world_from_cam) {
-      RenderTrajectory gt{"camera (ground truth)", {}, -1, true};
-      for (int f : camera.frames)
-        if (f < static_cast<int>(input.gt_world_from_cam->size()))
-          gt.positions.push_back((*input.gt_world_from_cam)[f].translation());
-      trajs.push_back(gt);
-    }
-    RenderTrajectory cam{"camera", {}, -1, false};
-    for (const Pose& p : camera.poses) cam.positions.push_back(p.translation());
-    trajs.push_back(cam);
-    // Clusters are plotted when they stay within this distance of the camera's start: the
-    // camera's own extent plus a margin for objects seen far ahead.
-    const Eigen::Vector3d start =
-        cam.positions.empty() ? Eigen::Vector3d::Zero() : cam.positions.front();
-    double plot_radius_m = 100.0;
-    for (const auto& p : cam.positions)
-      plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
-    // Draw each cluster's landmark centroid rather than its frame origin, which can lie
-    // anywhere (it is the camera frame at the cluster's first sighting). One pass over the
-    // landmarks gathers every cluster's centroid.
-    std::map<int, std::pair<Eigen::Vector3d, int>> centroids;
-    for (int l : map.Landmarks()) {
-      const int id = map.ClusterOf(l);
-      if (id < 1) continue;
-      auto& [sum, n] = centroids.try_emplace(id, Eigen::Vector3d::Zero(), 0).first->second;
-      sum += *map.PositionInCluster(l);
-      ++n;
-    }
-    for (const auto& [id, c] : map.clusters()) {
-      if (c.world_from_cluster.size() < 2) continue;
-      RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
-      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-      if (const auto it = centroids.find(id); it != centroids.end() && it->second.second > 0)
-        centroid = it->second.first / it->second.second;
-      for (const auto& [f, pose] : c.world_from_cluster) t.positions.push_back(pose * centroid);
-      // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
-      // out of the plot and say so (its trajectory file is still written).
-      bool diverged = false;
-      for (const auto& p : t.positions)
-        diverged |= !p.allFinite() || (p - start).norm() > plot_radius_m;
-      if (diverged) {
-        log->warn("render/trajectory.png: cluster {} left out, it strays more than {:.0f} m from "
-                  "the camera's path",
-                  id, plot_radius_m);
-        continue;
-      }
-      trajs.push_back(t);
-    }
     try {
-      WritePng(RenderTrajectoryTopView(trajs), (out / "render" / "trajectory.png").string());
+      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
     } catch (const OutputError&) {
       throw;
     } catch (const Error& e) {

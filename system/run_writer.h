@@ -16,8 +16,9 @@ Trajectory CameraTrajectory(const MapState& map, const std::vector<double>& time
 /// One moving cluster's trajectory (the frames where it has a pose).
 Trajectory ClusterTrajectory(const MapCluster& cluster, const std::vector<double>& timestamps);
 
-/// Writes trajectories (KITTI + TUM), objects/, clusters.csv, landmarks.ply/.pcd,
-/// render/trajectory.png, config.yaml and (when given) metrics.json into `out_dir`.
+/// Writes trajectories (KITTI + TUM; camera_trajectory_gt.* with the ground truth of the same
+/// frames when the input has one), objects/, clusters.csv, landmarks.ply/.pcd,
+/// render/trajectory.png (RenderRunTrajectoryPlot), config.yaml and (when given) metrics.json into `out_dir`.
 void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                      const PipelineOptions& options, const std::string& out_dir,
                      const RunMetrics* metrics);

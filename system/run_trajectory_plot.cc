@@ -1,0 +1,72 @@
+#include "system/run_trajectory_plot.h"
+
+#include <algorithm>
+#include <map>
+#include <string>
+
+#include "core/logging.h"
+#include "system/trajectory_plot.h"
+
+namespace cslam {
+
+std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs) {
+  std::vector<RenderTrajectory> trajs;
+  if (!outputs.gt_camera.empty()) {
+    RenderTrajectory gt{"camera (ground truth)", {}, -1, true};
+    for (const Pose& p : outputs.gt_camera.poses) gt.positions.push_back(p.translation());
+    trajs.push_back(gt);
+  }
+  RenderTrajectory cam{"camera", {}, -1, false};
+  for (const Pose& p : outputs.camera.poses) cam.positions.push_back(p.translation());
+  trajs.push_back(cam);
+  // Clusters are plotted when they stay within this distance of the camera's start: the
+  // camera's own extent plus a margin for objects seen far ahead.
+  const Eigen::Vector3d start =
+      cam.positions.empty() ? Eigen::Vector3d::Zero() : cam.positions.front();
+  double plot_radius_m = 100.0;
+  for (const auto& p : cam.positions)
+    plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
+  // Draw each cluster's landmark centroid rather than its frame origin, which can lie
+  // anywhere (it is the camera frame at the cluster's first sighting). The landmarks are
+  // brought back into their cluster's frame by the pose that placed them in the world
+  // (PlacingPoseIndex); one pass over them gathers every cluster's centroid.
+  std::map<int, std::pair<Eigen::Vector3d, int>> centroids;
+  for (const RunLandmark& l : outputs.landmarks) {
+    if (l.cluster < 1) continue;
+    const auto c = outputs.clusters.find(l.cluster);
+    if (c == outputs.clusters.end()) continue;
+    const int k = PlacingPoseIndex(c->second, l.last_frame);
+    if (k < 0) continue;
+    auto& [sum, n] = centroids.try_emplace(l.cluster, Eigen::Vector3d::Zero(), 0).first->second;
+    sum += c->second.poses[k].inverse() * l.p_world;
+    ++n;
+  }
+  auto log = GetLogger("system");
+  for (const auto& [id, c] : outputs.clusters) {
+    if (c.size() < 2) continue;
+    RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    if (const auto it = centroids.find(id); it != centroids.end() && it->second.second > 0)
+      centroid = it->second.first / it->second.second;
+    for (const Pose& pose : c.poses) t.positions.push_back(pose * centroid);
+    // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
+    // out of the plot and say so (its trajectory file is still written).
+    bool diverged = false;
+    for (const auto& p : t.positions)
+      diverged |= !p.allFinite() || (p - start).norm() > plot_radius_m;
+    if (diverged) {
+      log->warn("render/trajectory.png: cluster {} left out, it strays more than {:.0f} m from "
+                "the camera's path",
+                id, plot_radius_m);
+      continue;
+    }
+    trajs.push_back(t);
+  }
+  return trajs;
+}
+
+cv::Mat RenderRunTrajectoryPlot(const RunOutputs& outputs, int width, int height) {
+  return RenderTrajectoryTopView(RunTrajectoryPlotLines(outputs), width, height);
+}
+
+}  // namespace cslam
