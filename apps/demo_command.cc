@@ -48,6 +48,10 @@ int Demo(const DemoArgs& args) {
 
   RunInput input = OpenRunInput(sequence_dir, args.flags.InputOptionsFor());
   PipelineOptions options = args.flags.Resolve(input);
+  // The demo shows every kind of picture unless told otherwise.
+  if (args.flags.snapshots_every < 0) options.output.snapshots_every = 10;
+  if (args.flags.overlays_every < 0) options.output.overlays_every = 10;
+  options.out_dir = args.out;
   GetLogger("app")->info("effective configuration:\n{}", options.ToYaml());
   StopFlag stop;
   ProgressBar bar("frames", args.flags.progress);
@@ -55,7 +59,11 @@ int Demo(const DemoArgs& args) {
       RunPipeline(input, options, stop.flag(), [&](int done, int total) { bar.Update(done, total); });
   bar.Finish();
   const int code = FinishRun(input, result, options, args.out, stop);
-  std::printf("images: %s/render/trajectory.png\n", args.out.c_str());
+  std::printf("images: %s/render/trajectory.png", args.out.c_str());
+  if (result.renders.snapshots + result.renders.overlays > 0)
+    std::printf(", %d snapshots and %d overlays in %s/render/", result.renders.snapshots,
+                result.renders.overlays, args.out.c_str());
+  std::printf("\n");
   return code;
 }
 

@@ -58,9 +58,11 @@ class TrackingStage {
 // Runs backend windows and folds them into the map.
 class BackendStage {
  public:
-  BackendStage(const StereoCamera& camera, const PipelineOptions& options, const BackendFunction& backend)
-      : camera_(camera), options_(options), backend_(backend ? backend : BackendFunction(RunBackend)),
-        map_(options.map) {}
+  BackendStage(const RunInput& input, const PipelineOptions& options, const BackendFunction& backend)
+      : camera_(input.camera), options_(options),
+        backend_(backend ? backend : BackendFunction(RunBackend)), map_(options.map),
+        renders_(input, options.output, options.out_dir,
+                 !(options.mode == "online" && options.online.sequential)) {}
 
   WindowStats Process(const TrackletTable& window_table, FrameRange range) {
     WindowStats stats;
@@ -90,6 +92,7 @@ class BackendStage {
     timer.Reset();
     stats.integration = map_.Integrate(result.estimate);
     stats.integrate_ms = timer.ElapsedMs();
+    renders_.AfterWindow(map_, window_table, range);
     GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
                               range.end - 1, stats.clusters,
                               stats.integration.gap ? ", chained across a gap" : "");
@@ -99,6 +102,7 @@ class BackendStage {
 
   MapState& map() { return map_; }
   std::optional<BackendResult>& last_result() { return last_result_; }
+  FrameRenderStats FinishRenders() { return renders_.Finish(); }
 
  private:
   static bool Usable(const MotionEstimate& e) {
@@ -116,6 +120,7 @@ class BackendStage {
   const PipelineOptions& options_;
   BackendFunction backend_;
   MapState map_;
+  FrameRenders renders_;
   std::optional<BackendResult> last_result_;
 };
 
@@ -301,13 +306,14 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, {});
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
   if (out.frames_processed == 0) return out;
-  BackendStage backend(input.camera, options, backend_fn);
+  BackendStage backend(input, options, backend_fn);
   // One backend call per stretch between tracking breaks (normally the whole sequence).
   const std::vector<FrameRange> segments =
       SegmentsBetweenBreaks(tracking.table(), out.frames_processed, options.online);
   for (const FrameRange& r : segments)
     out.windows.push_back(backend.Process(segments.size() == 1 ? tracking.table() : tracking.table().Slice(r), r));
   out.batch = std::move(backend.last_result());
+  out.renders = backend.FinishRenders();
   out.map = std::move(backend.map());
   out.table = std::move(tracking.table());
   return out;
@@ -318,7 +324,7 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
                                    const BackendFunction& backend_fn) {
   PipelineResult out;
   TrackingStage tracking(input, options.frontend);
-  BackendStage backend(input.camera, options, backend_fn);
+  BackendStage backend(input, options, backend_fn);
   WindowScheduler windows(options.online);
   if (MayForget(input, options.online))
     tracking.EnableForgetting(options.online.window_frames + options.online.window_every);
@@ -332,6 +338,7 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
   if (!out.interrupted)
     if (auto w = windows.Final(out.frames_processed)) run_window(*w);
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
+  out.renders = backend.FinishRenders();
   out.map = std::move(backend.map());
   out.table = std::move(tracking.table());
   return out;
@@ -347,7 +354,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   BoundedQueue<WindowJob> jobs(online.window_queue);
   TrackingStage tracking(input, options.frontend);
   if (MayForget(input, online)) tracking.EnableForgetting(online.window_frames + online.window_every);
-  BackendStage backend(input.camera, options, backend_fn);
+  BackendStage backend(input, options, backend_fn);
   std::exception_ptr reader_error, frontend_error, backend_error;
   std::atomic<bool> abort{false};
   auto stopping = [&] { return abort.load() || StopRequested(stop); };
@@ -428,6 +435,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   out.resources = std::move(sampler.samples());
   out.interrupted = StopRequested(stop);
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
+  out.renders = backend.FinishRenders();
   out.map = std::move(backend.map());
   out.table = std::move(tracking.table());
   for (const auto& e : {reader_error, frontend_error, backend_error})

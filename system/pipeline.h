@@ -15,6 +15,7 @@
 #include "core/tracklet_table.h"
 #include "frontend/stereo_frontend.h"
 #include "system/map_state.h"
+#include "system/frame_renders.h"
 #include "system/pipeline_options.h"
 #include "system/resource_log.h"
 #include "system/run_input.h"
@@ -45,6 +46,7 @@ struct PipelineResult {
   double read_ms_per_frame = 0.0;
   /// Resident memory and time every few frames (resources.csv, render/resources.png).
   std::vector<ResourceSample> resources;
+  FrameRenderStats renders;  ///< snapshots and overlays written during the run
   /// A failure part-way (e.g. a corrupt image): the run stopped there; everything above is
   /// what was estimated before it. The caller writes the outputs, then rethrows.
   std::exception_ptr error;

@@ -54,6 +54,9 @@ struct PipelineOptions {
   OnlineOptions online;
   MapStateOptions map;
   OutputOptions output;
+  /// Set by the command, not read from YAML: the run's output folder, where snapshots and
+  /// overlays are written during the run ("" = none are rendered).
+  std::string out_dir;
 
   void Check() const;
   /// Reads a YAML tree; `preset` is read first so the backend section overrides its values.
