@@ -8,6 +8,7 @@
 #include "apps/command.h"
 #include "core/logging.h"
 #include "system/image_io.h"
+#include "system/resource_log.h"
 #include "system/run_outputs_reader.h"
 #include "system/run_trajectory_plot.h"
 
@@ -32,6 +33,15 @@ int Render(const RenderArgs& args) {
   const std::string path = (std::filesystem::path(args.out) / "render" / "trajectory.png").string();
   WritePng(plot, path);
   std::printf("%s\n", path.c_str());
+  const std::filesystem::path resources = std::filesystem::path(args.out) / "resources.csv";
+  if (std::filesystem::exists(resources)) {
+    const std::vector<ResourceSample> samples = ReadResourceLog(resources.string());
+    if (samples.size() >= 2) {
+      const std::string chart = (std::filesystem::path(args.out) / "render" / "resources.png").string();
+      WritePng(RenderResourceChart(samples), chart);
+      std::printf("%s\n", chart.c_str());
+    }
+  }
   // Overlays draw each frame's tracked keypoints on its left image; a run keeps neither.
   log->info("render/overlay_*.png not re-rendered: the per-frame keypoint tracks are not among "
             "a run's outputs");

@@ -4,10 +4,14 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
 #include <iomanip>
 #include <opencv2/core.hpp>
 
 #include "core/atomic_file.h"
+#include "core/errors.h"
 #include "system/image_io.h"
 #include "system/line_chart.h"
 
@@ -55,29 +59,67 @@ void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::str
       o << "\n";
     }
   });
-  if (!plot) return;
+  if (plot) WritePng(RenderResourceChart(samples), (out / "render" / "resources.png").string());
+}
+
+cv::Mat RenderResourceChart(const std::vector<ResourceSample>& samples) {
+  CSLAM_CHECK(samples.size() >= 2, "a resource chart needs two samples");
   LineChart memory, rate;
   memory.title = "resident memory";
   memory.x_label = rate.x_label = "frame";
   memory.y_label = "RSS (MiB)";
   memory.y_min = rate.y_min = 0;
-  rate.title = "frame rate between samples";
   rate.y_label = "frames/s";
   ChartSeries m{"RSS", {}, {}, SeriesColor(0)}, r{"frames/s", {}, {}, SeriesColor(1)};
-  for (size_t i = 0; i < samples.size(); ++i) {
+  // At most ~100 points per chart, and the rate over the whole stride between them: the
+  // first frames race ahead of the first backend window, which per-sample rates would show as
+  // a spike that hides the rest.
+  const size_t stride = std::max<size_t>(1, samples.size() / 100);
+  for (size_t i = 0; i < samples.size(); i += stride) {
     m.x.push_back(samples[i].frame);
     m.y.push_back(samples[i].rss_mb);
-    if (i > 0) {
+    if (i >= stride) {
+      const ResourceSample& a = samples[i - stride];
+      const double dt = samples[i].elapsed_s - a.elapsed_s;
       r.x.push_back(samples[i].frame);
-      r.y.push_back(fps[i - 1]);
+      r.y.push_back(dt > 0 ? (samples[i].frame - a.frame) / dt : 0.0);
     }
   }
+  rate.title = "frame rate (over " + std::to_string(stride * (samples[1].frame - samples[0].frame)) +
+               "-frame spans)";
   memory.series.push_back(m);
   rate.series.push_back(r);
   cv::Mat image;
   cv::vconcat(std::vector<cv::Mat>{RenderLineChart(memory, 900, 420), RenderLineChart(rate, 900, 420)},
               image);
-  WritePng(image, (out / "render" / "resources.png").string());
+  return image;
+}
+
+std::vector<ResourceSample> ReadResourceLog(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "cannot open the file");
+  std::vector<ResourceSample> samples;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line_no == 1) {
+      if (line != "frame,elapsed_s,rss_mb,fps")
+        throw InputError(path, 1, "expected the header 'frame,elapsed_s,rss_mb,fps'");
+      continue;
+    }
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    ResourceSample s;
+    char c1 = 0, c2 = 0;
+    if (!(fields >> s.frame >> c1 >> s.elapsed_s >> c2 >> s.rss_mb) || c1 != ',' || c2 != ',' ||
+        !std::isfinite(s.elapsed_s) || !std::isfinite(s.rss_mb))
+      throw InputError(path, line_no, "expected 'frame,elapsed_s,rss_mb,fps' with numbers");
+    if (!samples.empty() && s.frame <= samples.back().frame)
+      throw InputError(path, line_no, "frames must increase");
+    samples.push_back(s);
+  }
+  return samples;
 }
 
 }  // namespace cslam

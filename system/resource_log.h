@@ -1,6 +1,7 @@
 #pragma once
 // Resident memory and frame rate over a run, sampled every few frames, for the long-run
 // checks of docs/reliability.md ("Load"): resources.csv and render/resources.png.
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -43,5 +44,11 @@ std::vector<double> FramesPerSecond(const std::vector<ResourceSample>& samples);
 /// Fewer than two samples: nothing is written.
 void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::string& out_dir,
                       bool plot);
+
+/// The chart of render/resources.png (needs at least two samples).
+cv::Mat RenderResourceChart(const std::vector<ResourceSample>& samples);
+
+/// Reads resources.csv back (for `cslam render`). Throws InputError naming the file and line.
+std::vector<ResourceSample> ReadResourceLog(const std::string& path);
 
 }  // namespace cslam
