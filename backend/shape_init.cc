@@ -57,6 +57,9 @@ struct LandmarkModel {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::vector<Component> components;
   int count = 0;  // observations integrated (point-to-point running mean)
+  // false once an observation failed the fusion gate: the landmark does not move with the
+  // cluster (a car point in the static cluster), so it must not steer the registration.
+  bool rigid = true;
 };
 
 /// A back-projected observation of the cluster's `local`-th landmark.
@@ -263,8 +266,10 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
     }
     const Eigen::Matrix3d cov = covariance(fp, cluster_from_cam);
     if (!IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
-                             options.fusion_gate_chi2, &model))
+                             options.fusion_gate_chi2, &model)) {
+      model.rigid = false;
       return;
+    }
     if (options.covariance_at_model) Refresh(camera, &model);
     Prune(options.max_mixture_components, &model);
   };
@@ -277,9 +282,14 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
       current = Pose::Identity();
       registered = true;
     } else if (shape.first_sight >= 0 && frame > shape.first_sight) {
-      std::vector<const FramePoint*> matched;
+      std::vector<const FramePoint*> matched, rigid;
       for (const FramePoint& fp : points)
-        if (models[fp.local].initialised) matched.push_back(&fp);
+        if (models[fp.local].initialised) {
+          matched.push_back(&fp);
+          if (models[fp.local].rigid) rigid.push_back(&fp);
+        }
+      // Register on the landmarks that have moved with the cluster so far, when enough do.
+      if (static_cast<int>(rigid.size()) >= options.min_points) matched = std::move(rigid);
       if (static_cast<int>(matched.size()) >= options.min_points) {
         std::vector<Eigen::Vector3d> src, dst;
         for (const FramePoint* fp : matched) {
