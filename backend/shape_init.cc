@@ -56,7 +56,7 @@ struct LandmarkModel {
   bool initialised = false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::vector<Component> components;
-  int count = 0;  // observations integrated (point-to-point running mean)
+  int count = 0;  // observations integrated
   // false once an observation failed the fusion gate: the landmark does not move with the
   // cluster (a car point in the static cluster), so it must not steer the registration.
   bool rigid = true;
@@ -258,7 +258,10 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
   auto integrate = [&](const FramePoint& fp, const Pose& cluster_from_cam) {
     const Eigen::Vector3d p = cluster_from_cam * fp.p_in_cam;
     LandmarkModel& model = models[fp.local];
-    if (point_to_point_icp) {
+    // The point-to-point ablation, and a landmark that does not move with the cluster: the
+    // running mean of its mapped observations (bounded by them — the place that explains its
+    // whole track best as a static point, and a sane start for bundle adjustment).
+    if (point_to_point_icp || !model.rigid) {
       model.mean = model.initialised ? (model.mean * model.count + p) / (model.count + 1) : p;
       model.initialised = true;
       ++model.count;
@@ -268,8 +271,11 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
     if (!IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
                              options.fusion_gate_chi2, &model)) {
       model.rigid = false;
+      model.mean = (model.mean * model.count + p) / (model.count + 1);
+      ++model.count;
       return;
     }
+    ++model.count;
     if (options.covariance_at_model) Refresh(camera, &model);
     Prune(options.max_mixture_components, &model);
   };
