@@ -11,6 +11,7 @@
 #include "core/logging.h"
 #include "core/timer.h"
 #include "system/bounded_queue.h"
+#include "system/estimate_sanity.h"
 
 namespace cslam {
 
@@ -71,11 +72,11 @@ class BackendStage {
     }
     stats.backend_ms = timer.ElapsedMs();
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
-    if (!Usable(result.estimate)) {
+    const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
+    if (!sanity.usable) {
       stats.failed = true;
-      GetLogger("system")->warn("window {}..{} discarded: no usable estimate (too few landmarks "
-                                "or a non-finite solution)",
-                                range.begin, range.end - 1);
+      GetLogger("system")->warn("window {}..{} discarded: no usable estimate: {}", range.begin,
+                                range.end - 1, sanity.reason);
       return stats;
     }
     timer.Reset();
@@ -92,17 +93,6 @@ class BackendStage {
   std::optional<BackendResult>& last_result() { return last_result_; }
 
  private:
-  static bool Usable(const MotionEstimate& e) {
-    if (static_cast<int>(e.world_from_cam.size()) != e.range.size() || e.range.size() == 0)
-      return false;
-    for (const Pose& p : e.world_from_cam)
-      if (!p.matrix().allFinite()) return false;
-    for (const ClusterMotion& c : e.clusters)
-      for (const Pose& p : c.world_from_cluster)
-        if (!p.matrix().allFinite()) return false;
-    return true;
-  }
-
   const StereoCamera& camera_;
   const PipelineOptions& options_;
   BackendFunction backend_;
