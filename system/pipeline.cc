@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "backend/clusterslam.h"
+#include "backend/covariance_floor.h"
 #include "backend/full_ba.h"
 #include "backend/progressive_dcs.h"
 #include "core/errors.h"
@@ -395,11 +396,14 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
                          const PipelineOptions& options) {
+  if (options.method == "clusterslam") return RunClusterSlam(table, camera, range, options.backend);
+  // The baselines get the same covariance floor as ClusterSLAM (it floors inside).
+  const std::optional<TrackletTable> floored =
+      FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
+  const TrackletTable& t = floored ? *floored : table;
   if (options.method == "full-ba")
-    return RunFullBa(table, camera, range, options.backend.Effective().motion);
-  if (options.method == "pdcs")
-    return RunProgressiveDcs(table, camera, range, options.backend.Effective().motion);
-  return RunClusterSlam(table, camera, range, options.backend);
+    return RunFullBa(t, camera, range, options.backend.Effective().motion);
+  return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
 }
 
 PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options,
