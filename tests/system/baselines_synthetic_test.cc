@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "backend/full_ba.h"
 #include "backend/progressive_dcs.h"
@@ -66,7 +67,13 @@ TEST_P(OutdoorBaseline, IsBiasedButFiniteAndSane) {
 INSTANTIATE_TEST_SUITE_P(Seeds, OutdoorBaseline,
                          ::testing::Values(Case{1, 100, "full-ba"}, Case{1, 100, "pdcs"},
                                            Case{3, 0, "full-ba"}, Case{3, 0, "pdcs"},
-                                           Case{1, 0, "full-ba"}));
+                                           Case{1, 0, "full-ba"}),
+                         [](const ::testing::TestParamInfo<Case>& info) {
+                           const Case& c = info.param;
+                           return std::string(std::string(c.method) == "pdcs" ? "ProgressiveDcs" : "FullBa") +
+                                  "Seed" + std::to_string(c.seed) +
+                                  (c.generated_frames ? "Generated100" : "First100");
+                         });
 
 }  // namespace
 }  // namespace cslam
