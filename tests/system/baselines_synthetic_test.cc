@@ -75,5 +75,21 @@ INSTANTIATE_TEST_SUITE_P(Seeds, OutdoorBaseline,
                                   (c.generated_frames ? "Generated100" : "First100");
                          });
 
+TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3) {
+  // Pins the cause: the same run with Eq. 4 fusing every observation (the old behaviour).
+  SyntheticOptions o;
+  o.preset = "outdoor";
+  o.seed = 3;
+  const SyntheticSequence seq = GenerateSynthetic(o);
+  const FrameRange range{0, 100};
+  MotionEstimationOptions gate_off;
+  gate_off.shape_init.fusion_gate_chi2 = 0;
+  const BackendResult r = RunFullBa(seq.observations, seq.camera, range, gate_off);
+  const EstimateSanity sanity =
+      JudgeEstimate(r.estimate, seq.observations, seq.camera, EstimateSanityOptions{});
+  EXPECT_FALSE(sanity.usable);
+  EXPECT_FALSE(CameraRms(seq, r.estimate) < kPaperOutdoorBaselineAteM);
+}
+
 }  // namespace
 }  // namespace cslam
