@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "backend/covariance_floor.h"
 #include "backend/labelling.h"
 #include "backend/point_tracks.h"
 #include "core/errors.h"
@@ -66,6 +67,8 @@ void ClusterSlamOptions::Check() const {
               "must be >= 0 (nats)", convergence_vi);
   CheckOption(intermediate_ba_iterations >= 0, "clusterslam.intermediate_ba_iterations",
               "must be >= 0 (0 = shape initialisation only)", intermediate_ba_iterations);
+  CheckOption(std::isfinite(min_pixel_sigma) && min_pixel_sigma >= 0, "clusterslam.min_pixel_sigma",
+              "must be >= 0 px", min_pixel_sigma);
   CheckOption(refine_half_window >= 0, "clusterslam.refine_half_window", "must be >= 0 frames",
               refine_half_window);
 }
@@ -91,6 +94,7 @@ void ClusterSlamOptions::Load(OptionsReader& reader) {
   ablation = ParseAblation(name, reader.Where("ablation"));
   reader.Read("max_iterations", &max_iterations);
   reader.Read("refine_half_window", &refine_half_window);
+  reader.Read("min_pixel_sigma", &min_pixel_sigma);
   reader.Read("convergence_vi", &convergence_vi);
   reader.Read("intermediate_ba_iterations", &intermediate_ba_iterations);
   reader.Read("warm_start", &warm_start);
@@ -163,12 +167,15 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
       });
 }
 
-BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
+BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamera& camera,
                              FrameRange range, const ClusterSlamOptions& options,
                              const MotionEstimator& estimator) {
   const Timer total;
   const ClusterSlamOptions opts = options.Effective();
   opts.Check();
+  const std::optional<TrackletTable> floored =
+      FloorPixelCovariances(input_table, range, opts.min_pixel_sigma);
+  const TrackletTable& table = floored ? *floored : input_table;
   auto log = GetLogger("backend");
   BackendResult result;
   result.method = "clusterslam";

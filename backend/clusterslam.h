@@ -73,6 +73,14 @@ struct ClusterSlamOptions {
   bool warm_start = true;
   int refine_half_window = 2;    ///< [ours] frames each side averaged by RefineTracks; 0 = the
                                  ///< raw back-projections in every iteration
+  /// [ours] floor on a keypoint's largest standard deviation, px, applied to the input's
+  /// covariances before anything else (backend/covariance_floor.h; 0 = off): a covariance
+  /// whose largest axis is below it is scaled up, shape kept. 0.5 px = the frontend's
+  /// localisation floor σ_det at level 0 (frontend/keypoint_covariance.h): its covariances
+  /// have a largest eigenvalue ≥ 0.55 px² and are never changed; nor is the generator's at its
+  /// default 1.5 px (0.75 px²). At 0 px (1e-12 px²), seed 1, 100 frames, measured outdoor
+  /// accuracy 0.834 / 0.603 / 0.978 with 0.15 / 0.3 / 0.5 px, indoor 0.976 / 0.989 / 0.987.
+  double min_pixel_sigma = 0.5;
 
   /// ε = 60, chunks 100 / 25 [paper].
   static ClusterSlamOptions Indoor();

@@ -18,6 +18,8 @@ void ShapeInitOptions::Check() const {
               gauss_newton_step_tolerance);
   CheckOption(huber_threshold_sigma > 0, "huber_threshold_sigma", "must be > 0",
               huber_threshold_sigma);
+  CheckOption(std::isfinite(fusion_gate_chi2), "fusion_gate_chi2", "must be finite (<= 0: off)",
+              fusion_gate_chi2);
   CheckOption(min_points >= 3, "min_points", "must be >= 3 (a rigid pose needs 3 points)",
               min_points);
 }
@@ -29,6 +31,7 @@ void ShapeInitOptions::Load(OptionsReader& reader) {
   reader.Read("huber_threshold_sigma", &huber_threshold_sigma);
   reader.Read("min_points", &min_points);
   reader.Read("covariance_at_model", &covariance_at_model);
+  reader.Read("fusion_gate_chi2", &fusion_gate_chi2);
 }
 
 namespace {
@@ -53,7 +56,10 @@ struct LandmarkModel {
   bool initialised = false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::vector<Component> components;
-  int count = 0;  // observations integrated (point-to-point running mean)
+  int count = 0;  // observations integrated
+  // false once an observation failed the fusion gate: the landmark does not move with the
+  // cluster (a car point in the static cluster), so it must not steer the registration.
+  bool rigid = true;
 };
 
 /// A back-projected observation of the cluster's `local`-th landmark.
@@ -86,15 +92,31 @@ void Refresh(const StereoCamera& camera, LandmarkModel* model) {
   }
 }
 
-/// Eq. 4 for one observation: `p` and `fresh.cov` already in the cluster frame.
-void IntegrateNoiseAware(const Eigen::Vector3d& p, const Component& fresh, int max_components,
+/// Innovation χ² of observation `p` (covariance `cov`, cluster frame) against the model:
+/// (p − X̂)ᵀ (Σ + Σ_X̂)⁻¹ (p − X̂), Σ_X̂ the covariance of the information-weighted mean of
+/// the kept components. NaN when a matrix is singular.
+double InnovationChi2(const Eigen::Vector3d& p, const Eigen::Matrix3d& cov,
+                      const LandmarkModel& model) {
+  Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+  for (const Component& c : model.components) info += c.cov.inverse();
+  const Eigen::Matrix3d s = cov + info.inverse();
+  const Eigen::Vector3d r = p - model.mean;
+  const Eigen::LLT<Eigen::Matrix3d> llt(s);
+  if (!s.allFinite() || llt.info() != Eigen::Success) return std::numeric_limits<double>::quiet_NaN();
+  return r.dot(llt.solve(r));
+}
+
+/// Eq. 4 for one observation: `p` and `fresh.cov` already in the cluster frame. Returns false
+/// (model unchanged) when the observation fails the innovation gate (`gate_chi2` > 0).
+bool IntegrateNoiseAware(const Eigen::Vector3d& p, const Component& fresh, double gate_chi2,
                          LandmarkModel* model) {
   if (!model->initialised) {
     model->initialised = true;
     model->mean = p;
     model->components = {fresh};
-    return;
+    return true;
   }
+  if (gate_chi2 > 0 && !(InnovationChi2(p, fresh.cov, *model) <= gate_chi2)) return false;
   // Normalise the 1/|Σ| weights by the largest so that tiny indoor determinants cannot
   // overflow; the solution is invariant to a common scale.
   double max_log = fresh.log_weight;
@@ -105,6 +127,7 @@ void IntegrateNoiseAware(const Eigen::Vector3d& p, const Component& fresh, int m
     a_old += c.cov.inverse() * std::exp(c.log_weight - max_log);
   model->mean = (a_new + a_old).ldlt().solve(a_new * p + a_old * model->mean);
   model->components.push_back(fresh);
+  return true;
 }
 
 void Prune(int max_components, LandmarkModel* model) {
@@ -235,15 +258,24 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
   auto integrate = [&](const FramePoint& fp, const Pose& cluster_from_cam) {
     const Eigen::Vector3d p = cluster_from_cam * fp.p_in_cam;
     LandmarkModel& model = models[fp.local];
-    if (point_to_point_icp) {
+    // The point-to-point ablation, and a landmark that does not move with the cluster: the
+    // running mean of its mapped observations (bounded by them — the place that explains its
+    // whole track best as a static point, and a sane start for bundle adjustment).
+    if (point_to_point_icp || !model.rigid) {
       model.mean = model.initialised ? (model.mean * model.count + p) / (model.count + 1) : p;
       model.initialised = true;
       ++model.count;
       return;
     }
     const Eigen::Matrix3d cov = covariance(fp, cluster_from_cam);
-    IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
-                        options.max_mixture_components, &model);
+    if (!IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
+                             options.fusion_gate_chi2, &model)) {
+      model.rigid = false;
+      model.mean = (model.mean * model.count + p) / (model.count + 1);
+      ++model.count;
+      return;
+    }
+    ++model.count;
     if (options.covariance_at_model) Refresh(camera, &model);
     Prune(options.max_mixture_components, &model);
   };
@@ -256,9 +288,14 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
       current = Pose::Identity();
       registered = true;
     } else if (shape.first_sight >= 0 && frame > shape.first_sight) {
-      std::vector<const FramePoint*> matched;
+      std::vector<const FramePoint*> matched, rigid;
       for (const FramePoint& fp : points)
-        if (models[fp.local].initialised) matched.push_back(&fp);
+        if (models[fp.local].initialised) {
+          matched.push_back(&fp);
+          if (models[fp.local].rigid) rigid.push_back(&fp);
+        }
+      // Register on the landmarks that have moved with the cluster so far, when enough do.
+      if (static_cast<int>(rigid.size()) >= options.min_points) matched = std::move(rigid);
       if (static_cast<int>(matched.size()) >= options.min_points) {
         std::vector<Eigen::Vector3d> src, dst;
         for (const FramePoint* fp : matched) {

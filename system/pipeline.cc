@@ -5,12 +5,14 @@
 #include <thread>
 
 #include "backend/clusterslam.h"
+#include "backend/covariance_floor.h"
 #include "backend/full_ba.h"
 #include "backend/progressive_dcs.h"
 #include "core/errors.h"
 #include "core/logging.h"
 #include "core/timer.h"
 #include "system/bounded_queue.h"
+#include "system/estimate_sanity.h"
 
 namespace cslam {
 
@@ -82,11 +84,11 @@ class BackendStage {
     }
     stats.backend_ms = timer.ElapsedMs();
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
-    if (!Usable(result.estimate)) {
+    const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
+    if (!sanity.usable) {
       stats.failed = true;
-      GetLogger("system")->warn("window {}..{} discarded: no usable estimate (too few landmarks "
-                                "or a non-finite solution)",
-                                range.begin, range.end - 1);
+      GetLogger("system")->warn("window {}..{} discarded: no usable estimate: {}", range.begin,
+                                range.end - 1, sanity.reason);
       return stats;
     }
     timer.Reset();
@@ -105,17 +107,6 @@ class BackendStage {
   FrameRenderStats FinishRenders() { return renders_.Finish(); }
 
  private:
-  static bool Usable(const MotionEstimate& e) {
-    if (static_cast<int>(e.world_from_cam.size()) != e.range.size() || e.range.size() == 0)
-      return false;
-    for (const Pose& p : e.world_from_cam)
-      if (!p.matrix().allFinite()) return false;
-    for (const ClusterMotion& c : e.clusters)
-      for (const Pose& p : c.world_from_cluster)
-        if (!p.matrix().allFinite()) return false;
-    return true;
-  }
-
   const StereoCamera& camera_;
   const PipelineOptions& options_;
   BackendFunction backend_;
@@ -450,11 +441,14 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
                          const PipelineOptions& options) {
+  if (options.method == "clusterslam") return RunClusterSlam(table, camera, range, options.backend);
+  // The baselines get the same covariance floor as ClusterSLAM (it floors inside).
+  const std::optional<TrackletTable> floored =
+      FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
+  const TrackletTable& t = floored ? *floored : table;
   if (options.method == "full-ba")
-    return RunFullBa(table, camera, range, options.backend.Effective().motion);
-  if (options.method == "pdcs")
-    return RunProgressiveDcs(table, camera, range, options.backend.Effective().motion);
-  return RunClusterSlam(table, camera, range, options.backend);
+    return RunFullBa(t, camera, range, options.backend.Effective().motion);
+  return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
 }
 
 PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options,

@@ -63,6 +63,7 @@ void PipelineOptions::Check() const {
   backend.Check();
   online.Check();
   map.Check();
+  sanity.Check();
   output.Check();
 }
 
@@ -100,6 +101,8 @@ void PipelineOptions::Load(OptionsReader& r) {
   online.Load(on);
   auto mp = r.Section("map");
   map.Load(mp);
+  auto sa = r.Section("sanity");
+  sanity.Load(sa);
   auto outp = r.Section("output");
   output.Load(outp);
   r.Finish();

@@ -8,6 +8,7 @@
 #include "backend/clusterslam.h"
 #include "core/options_reader.h"
 #include "frontend/stereo_frontend.h"
+#include "system/estimate_sanity.h"
 #include "system/map_state.h"
 #include "system/run_input.h"
 
@@ -53,6 +54,7 @@ struct PipelineOptions {
   ClusterSlamOptions backend = ClusterSlamOptions::Outdoor();
   OnlineOptions online;
   MapStateOptions map;
+  EstimateSanityOptions sanity;  ///< when a backend window's estimate is refused
   OutputOptions output;
   /// Set by the command, not read from YAML: the run's output folder, where snapshots and
   /// overlays are written during the run ("" = none are rendered).

@@ -169,6 +169,27 @@ TEST(Pipeline, AFailedWindowIsDiscardedAndTheRunGoesOn) {
   }
 }
 
+TEST(Pipeline, AFiniteButAbsurdEstimateIsDiscarded) {
+  // The old check (every pose finite) let a diverged solve through: camera steps of 1e20 m.
+  const RunInput in = SmallSyntheticInput();
+  const BackendFunction jumping = [](const TrackletTable& t, const StereoCamera& c, FrameRange r,
+                                     const PipelineOptions& o) {
+    BackendResult b = RunBackend(t, c, r, o);
+    if (r.end == 40)
+      for (size_t f = 5; f < b.estimate.world_from_cam.size(); ++f)
+        b.estimate.world_from_cam[f].translation().z() += 1e20;
+    return b;
+  };
+  const PipelineResult r = RunPipeline(in, OnlineOptionsFor(true), nullptr, {}, jumping);
+  ASSERT_FALSE(r.error);
+  ASSERT_EQ(r.windows.size(), 3u);
+  EXPECT_FALSE(r.windows[0].failed);
+  EXPECT_FALSE(r.windows[1].failed);
+  EXPECT_TRUE(r.windows[2].failed);
+  for (int f = 0; f < r.map.num_frames(); ++f)
+    if (r.map.world_from_cam()[f]) EXPECT_LT(r.map.world_from_cam()[f]->translation().norm(), 1e3) << f;
+}
+
 TEST(Pipeline, AFailedBatchCallLeavesAnEmptyMapNotAnError) {
   const RunInput in = SmallSyntheticInput();
   PipelineOptions o = OnlineOptionsFor(true);

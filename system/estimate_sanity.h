@@ -1,0 +1,50 @@
+#pragma once
+// Whether a backend window's estimate is usable: stricter than "every pose is finite". An
+// estimate whose camera jumps, in one frame, farther than anything the stereo pair measured
+// in that window, or many of whose landmarks lie far beyond the measured depth range, came
+// from a diverged solve (measured: Full BA on outdoor seeds 1 and 3 before the shape
+// initialisation's fusion gate — camera steps of 1e16–1e35 m) and must not enter the map. The depth range is the input's own: the largest depth f·b/d over the
+// window's observations with positive disparity d.
+#include <string>
+
+#include "backend/motion_estimation.h"
+#include "core/options_reader.h"
+#include "core/stereo_camera.h"
+#include "core/tracklet_table.h"
+
+namespace cslam {
+
+/// Thresholds, in units of the window's largest measured depth D.
+struct EstimateSanityOptions {
+  /// A camera translation between consecutive frames above this × D is absurd: the camera
+  /// cannot move farther in one frame than the farthest point it measured [ours].
+  double max_step_depths = 1.0;
+  /// A landmark farther than this × D from a camera that observes it is absurd [ours].
+  double far_landmark_depths = 10.0;
+  /// More than this fraction of absurd landmarks makes the estimate unusable [ours]. Not 0:
+  /// a Full BA (or a one-cluster window) legitimately pushes car points that move with the
+  /// camera towards infinity along their rays — measured 5.3–7.7 % of the landmarks on 100
+  /// frames of outdoor seeds 1 and 3 and 7–8 % in 30-frame one-iteration windows of outdoor
+  /// seed 3, with a good camera (docs/benchmarks.md); 0.25 leaves 3× headroom.
+  double max_far_landmark_fraction = 0.25;
+
+  void Check() const;
+  void Load(OptionsReader& reader);
+};
+
+/// The verdict, with the reason when the estimate is refused.
+struct EstimateSanity {
+  bool usable = true;
+  std::string reason;           ///< empty when usable
+  double max_depth_m = 0;       ///< D: largest measured depth in the window
+  double max_step_m = 0;        ///< largest camera translation between consecutive frames
+  int landmarks = 0;            ///< landmarks with a label and a finite position
+  int far_landmarks = 0;        ///< of those, farther than far_landmark_depths × D
+};
+
+/// Judges `estimate` (over estimate.range) against the observations of `table` that produced
+/// it. Non-finite or missing poses are refused too.
+EstimateSanity JudgeEstimate(const MotionEstimate& estimate, const TrackletTable& table,
+                             const StereoCamera& camera, const EstimateSanityOptions& options);
+
+}  // namespace cslam
