@@ -90,6 +90,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("num_threads", &num_threads);
   reader.Read("min_observations_per_pose", &min_observations_per_pose);
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
+  reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -267,10 +268,18 @@ class Solve {
                                 ? ceres::SPARSE_SCHUR
                                 : ceres::SPARSE_NORMAL_CHOLESKY;
     if (sparse) so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (double* p : points_) ordering->AddElementToGroup(p, 0);
-    for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
-    so.linear_solver_ordering = ordering;
+    // Schur solvers eliminate the points (group 0) first. Sparse normal Cholesky gets no
+    // constraint [ours, measured]: CHOLMOD's minimum-degree ordering then eliminates whichever
+    // side is cheaper — for a moving cluster of a few landmarks seen in 100–200 frames that is
+    // the poses, leaving a tiny dense system on the points, where points-first filled a dense
+    // 6·frames square (docs/benchmarks.md, "Backend speed"). Same normal equations, same steps.
+    if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
+        options_.points_first_sparse_ordering) {
+      auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+      for (double* p : points_) ordering->AddElementToGroup(p, 0);
+      for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
+      so.linear_solver_ordering = ordering;
+    }
     ceres::Solver::Summary s;
     ceres::Solve(so, problem_.get(), &s);
     summary->iterations += static_cast<int>(s.iterations.size());
