@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 
+#include "backend/reprojection_error.h"
 #include "core/errors.h"
 #include "core/logging.h"
 
@@ -91,6 +92,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("min_observations_per_pose", &min_observations_per_pose);
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
   reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
+  reader.Read("analytic_jacobians", &analytic_jacobians);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -164,17 +166,28 @@ struct ReprojectionCost {
 
   template <typename T>
   bool Residual(const Eigen::Matrix<T, 3, 1>& p_in_cam, T* residual) const {
-    Eigen::Matrix<T, 3, 1> predicted;
-    if (!camera_.Project(p_in_cam, &predicted)) return false;
-    const Eigen::Matrix<T, 3, 1> e = x_.cast<T>() - predicted;
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
-    r = sqrt_info_.cast<T>() * e;
-    return true;
+    return WhitenedStereoResidual<T>(camera_, x_, sqrt_info_, p_in_cam, residual);
   }
 
   const StereoCamera& camera_;
   Eigen::Vector3d x_;
   Eigen::Matrix3d sqrt_info_;
+};
+
+/// ReprojectionCost with closed-form Jacobians (backend/reprojection_error.h).
+class AnalyticReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 3> {
+ public:
+  explicit AnalyticReprojectionCost(const ReprojectionCost& cost) : cost_(cost) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    return StereoReprojectionWithJacobians(
+        cost_.camera_, cost_.x_, cost_.sqrt_info_, parameters[0], parameters[1], parameters[2],
+        residuals, jacobians ? jacobians[0] : nullptr, jacobians ? jacobians[1] : nullptr,
+        jacobians ? jacobians[2] : nullptr);
+  }
+
+ private:
+  ReprojectionCost cost_;
 };
 
 /// The coupled form of the moving-cluster residual: p_cam = cam_from_world · world_from_cluster ·
@@ -219,9 +232,13 @@ class Solve {
     const ReprojectionCost cost(camera_, obs.x, SqrtInformation(obs.cov));
     Eigen::Vector3d r;
     if (!cost(cam_from_body->q.data(), cam_from_body->t.data(), point, r.data())) return false;
-    problem_->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 4, 3, 3>(new ReprojectionCost(cost)),
-        loss_.get(), cam_from_body->q.data(), cam_from_body->t.data(), point);
+    ceres::CostFunction* function =
+        options_.analytic_jacobians
+            ? static_cast<ceres::CostFunction*>(new AnalyticReprojectionCost(cost))
+            : new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 4, 3, 3>(
+                  new ReprojectionCost(cost));
+    problem_->AddResidualBlock(function, loss_.get(), cam_from_body->q.data(),
+                               cam_from_body->t.data(), point);
     AddPose(cam_from_body);
     AddPoint(point);
     return true;

@@ -66,6 +66,7 @@ BENCHMARK(BM_EstimateMotionsTrueLabels)
     ->Args({200, 1})
     ->Args({100, 1})
     ->Args({100, 0})
+    ->Args({30, 1})
     ->ArgNames({"frames", "outdoor"})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
