@@ -44,10 +44,10 @@ struct BundleAdjustmentOptions {
   /// Observations a pose needs to be optimised; fewer → held at its initial value.
   int min_observations_per_pose = 3;
   /// Poses (frames × bodies) from which a solve uses the sparse solver below instead of
-  /// DENSE_SCHUR. 0 [ours, measured; was 60]: with the unconstrained ordering below, sparse
-  /// normal Cholesky also beats DENSE_SCHUR on 30-frame windows and small clusters (37 % fewer
-  /// instructions for one 30-frame outdoor estimation, same solution; docs/benchmarks.md).
-  int sparse_schur_min_poses = 0;
+  /// DENSE_SCHUR. Measured (docs/benchmarks.md, "Backend speed"): 0 takes 37 % fewer
+  /// instructions on a 30-frame outdoor estimation, but CHOLMOD's BLAS threads then spin on
+  /// the shared machine and online runs got slower in wall and system time, so 60 stays.
+  int sparse_schur_min_poses = 60;
   /// [ours, measured] sparse normal Cholesky: with tracks tens of frames long, Ceres' sparse
   /// Schur spends more time building the reduced camera system's block structure and
   /// locking its cells than solving (2.0–2.5× slower on synthetic indoor and outdoor chunks,
