@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 
+#include "backend/reprojection_error.h"
 #include "core/errors.h"
 #include "core/logging.h"
 
@@ -90,6 +91,8 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("num_threads", &num_threads);
   reader.Read("min_observations_per_pose", &min_observations_per_pose);
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
+  reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
+  reader.Read("analytic_jacobians", &analytic_jacobians);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -163,17 +166,28 @@ struct ReprojectionCost {
 
   template <typename T>
   bool Residual(const Eigen::Matrix<T, 3, 1>& p_in_cam, T* residual) const {
-    Eigen::Matrix<T, 3, 1> predicted;
-    if (!camera_.Project(p_in_cam, &predicted)) return false;
-    const Eigen::Matrix<T, 3, 1> e = x_.cast<T>() - predicted;
-    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
-    r = sqrt_info_.cast<T>() * e;
-    return true;
+    return WhitenedStereoResidual<T>(camera_, x_, sqrt_info_, p_in_cam, residual);
   }
 
   const StereoCamera& camera_;
   Eigen::Vector3d x_;
   Eigen::Matrix3d sqrt_info_;
+};
+
+/// ReprojectionCost with closed-form Jacobians (backend/reprojection_error.h).
+class AnalyticReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 3> {
+ public:
+  explicit AnalyticReprojectionCost(const ReprojectionCost& cost) : cost_(cost) {}
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    return StereoReprojectionWithJacobians(
+        cost_.camera_, cost_.x_, cost_.sqrt_info_, parameters[0], parameters[1], parameters[2],
+        residuals, jacobians ? jacobians[0] : nullptr, jacobians ? jacobians[1] : nullptr,
+        jacobians ? jacobians[2] : nullptr);
+  }
+
+ private:
+  ReprojectionCost cost_;
 };
 
 /// The coupled form of the moving-cluster residual: p_cam = cam_from_world · world_from_cluster ·
@@ -218,9 +232,13 @@ class Solve {
     const ReprojectionCost cost(camera_, obs.x, SqrtInformation(obs.cov));
     Eigen::Vector3d r;
     if (!cost(cam_from_body->q.data(), cam_from_body->t.data(), point, r.data())) return false;
-    problem_->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 4, 3, 3>(new ReprojectionCost(cost)),
-        loss_.get(), cam_from_body->q.data(), cam_from_body->t.data(), point);
+    ceres::CostFunction* function =
+        options_.analytic_jacobians
+            ? static_cast<ceres::CostFunction*>(new AnalyticReprojectionCost(cost))
+            : new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 4, 3, 3>(
+                  new ReprojectionCost(cost));
+    problem_->AddResidualBlock(function, loss_.get(), cam_from_body->q.data(),
+                               cam_from_body->t.data(), point);
     AddPose(cam_from_body);
     AddPoint(point);
     return true;
@@ -267,10 +285,18 @@ class Solve {
                                 ? ceres::SPARSE_SCHUR
                                 : ceres::SPARSE_NORMAL_CHOLESKY;
     if (sparse) so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
-    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-    for (double* p : points_) ordering->AddElementToGroup(p, 0);
-    for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
-    so.linear_solver_ordering = ordering;
+    // Schur solvers eliminate the points (group 0) first. Sparse normal Cholesky gets no
+    // constraint [ours, measured]: CHOLMOD's minimum-degree ordering then eliminates whichever
+    // side is cheaper — for a moving cluster of a few landmarks seen in 100–200 frames that is
+    // the poses, leaving a tiny dense system on the points, where points-first filled a dense
+    // 6·frames square (docs/benchmarks.md, "Backend speed"). Same normal equations, same steps.
+    if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
+        options_.points_first_sparse_ordering) {
+      auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+      for (double* p : points_) ordering->AddElementToGroup(p, 0);
+      for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
+      so.linear_solver_ordering = ordering;
+    }
     ceres::Solver::Summary s;
     ceres::Solve(so, problem_.get(), &s);
     summary->iterations += static_cast<int>(s.iterations.size());

@@ -44,18 +44,30 @@ struct BundleAdjustmentOptions {
   /// Observations a pose needs to be optimised; fewer → held at its initial value.
   int min_observations_per_pose = 3;
   /// Poses (frames × bodies) from which a solve uses the sparse solver below instead of
-  /// DENSE_SCHUR.
+  /// DENSE_SCHUR. Measured (docs/benchmarks.md, "Backend speed"): 0 takes 37 % fewer
+  /// instructions on a 30-frame outdoor estimation, but CHOLMOD's BLAS threads then spin on
+  /// the shared machine and online runs got slower in wall and system time, so 60 stays.
   int sparse_schur_min_poses = 60;
   /// [ours, measured] sparse normal Cholesky: with tracks tens of frames long, Ceres' sparse
   /// Schur spends more time building the reduced camera system's block structure and
   /// locking its cells than solving (2.0–2.5× slower on synthetic indoor and outdoor chunks,
   /// same result; docs/benchmarks.md).
   SparseSolver sparse_solver = SparseSolver::kNormalCholesky;
+  /// Sparse normal Cholesky: constrain the elimination order to all points before all poses
+  /// (the behaviour before 2026-11-23). Off [ours, measured]: the minimum-degree ordering picks
+  /// the cheaper side itself — 5–10× faster on small moving clusters seen in many frames, same
+  /// solution (docs/benchmarks.md, "Backend speed").
+  bool points_first_sparse_ordering = false;
+  /// Closed-form Jacobians of the decoupled residual (backend/reprojection_error.h) instead of
+  /// Ceres' automatic differentiation [ours, measured: same values to rounding, fewer
+  /// instructions]. The coupled modes' two-pose residual stays automatic.
+  bool analytic_jacobians = true;
 
   /// Throws ConfigError naming the field that breaks its rule.
   void Check() const;
   /// Reads every field by its snake_case name (enums as the strings above).
   void Load(OptionsReader& reader);
+  bool operator==(const BundleAdjustmentOptions&) const = default;
 };
 
 }  // namespace cslam

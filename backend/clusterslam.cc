@@ -98,6 +98,7 @@ void ClusterSlamOptions::Load(OptionsReader& reader) {
   reader.Read("convergence_vi", &convergence_vi);
   reader.Read("intermediate_ba_iterations", &intermediate_ba_iterations);
   reader.Read("warm_start", &warm_start);
+  reader.Read("reuse_unchanged_clusters", &reuse_unchanged_clusters);
 }
 
 namespace {
@@ -159,11 +160,18 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
 
 BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
                              FrameRange range, const ClusterSlamOptions& options) {
+  MovingClusterCache cache;
+  const bool reuse = options.reuse_unchanged_clusters;
   return RunClusterSlam(
       table, camera, range, options,
-      [](const TrackletTable& t, const StereoCamera& c, FrameRange r, const std::vector<int>& l,
-         const MotionEstimationOptions& o, const MotionEstimate* w) {
-        return EstimateMotions(t, c, r, l, o, w);
+      [&cache, reuse](const TrackletTable& t, const StereoCamera& c, FrameRange r,
+                      const std::vector<int>& l, const MotionEstimationOptions& o,
+                      const MotionEstimate* w) {
+        MotionEstimate e = EstimateMotions(t, c, r, l, o, w, reuse ? &cache : nullptr);
+        if (reuse && cache.reused > 0)
+          GetLogger("backend")->debug("clusterslam: {} moving clusters unchanged, not re-estimated",
+                                      cache.reused);
+        return e;
       });
 }
 

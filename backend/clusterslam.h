@@ -71,6 +71,10 @@ struct ClusterSlamOptions {
   /// [ours] iterations >= 2 start the static cluster from the previous estimate
   /// (EstimateMotions' warm_start) instead of a fresh shape initialisation.
   bool warm_start = true;
+  /// [ours] a moving cluster given the same landmarks as in the previous iteration keeps its
+  /// estimate instead of being re-estimated (MovingClusterCache; identical result, decoupled
+  /// adjustment only). Used by the default estimator of RunClusterSlam.
+  bool reuse_unchanged_clusters = true;
   int refine_half_window = 2;    ///< [ours] frames each side averaged by RefineTracks; 0 = the
                                  ///< raw back-projections in every iteration
   /// [ours] floor on a keypoint's largest standard deviation, px, applied to the input's
@@ -90,7 +94,7 @@ struct ClusterSlamOptions {
   ClusterSlamOptions Effective() const;
   void Check() const;
   /// Keys: distance, hac, consensus, motion, assignment (sections), ablation, max_iterations,
-  /// convergence_vi, intermediate_ba_iterations, warm_start,
+  /// convergence_vi, intermediate_ba_iterations, warm_start, reuse_unchanged_clusters,
   /// refine_half_window.
   void Load(OptionsReader& reader);
 };

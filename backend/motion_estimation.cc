@@ -44,7 +44,7 @@ void MotionEstimationOptions::Load(OptionsReader& reader) {
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
                                const MotionEstimationOptions& options,
-                               const MotionEstimate* warm_start) {
+                               const MotionEstimate* warm_start, MovingClusterCache* cache) {
   MotionEstimate est;
   est.range = range;
   const int n = table.num_landmarks();
@@ -63,7 +63,31 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
                     static_cast<int>(warm_start->world_from_cam.size()) == range.size() &&
                     std::all_of(warm_start->world_from_cam.begin(), warm_start->world_from_cam.end(),
                                 [](const Pose& p) { return p.matrix().allFinite(); });
+  // Only the decoupled adjustment solves a moving cluster on its own landmarks alone.
+  const bool caching =
+      cache && options.bundle_adjustment.coupling == BaCoupling::kDecoupled;
+  const bool cache_usable = caching && cache->range == range && cache->options == options;
+  std::vector<MovingClusterCache::Entry> kept;  // reused entries, carried to the next call
+  std::vector<ClusterMotion> reused;
   for (const auto& [label, landmarks] : members) {
+    if (label > 0 && cache_usable) {
+      auto hit = std::find_if(cache->entries.begin(), cache->entries.end(),
+                              [&landmarks](const MovingClusterCache::Entry& e) {
+                                return e.landmarks == landmarks;
+                              });
+      if (hit != cache->entries.end()) {
+        for (size_t k = 0; k < landmarks.size(); ++k) {
+          if (!hit->points[k].allFinite()) continue;
+          est.landmark_cluster[landmarks[k]] = label;
+          est.landmark_in_cluster[landmarks[k]] = hit->points[k];
+        }
+        hit->motion.cluster = label;
+        reused.push_back(hit->motion);
+        kept.push_back(std::move(*hit));
+        cache->entries.erase(hit);
+        continue;
+      }
+    }
     if (label == 0 && warm) {
       est.world_from_cam = warm_start->world_from_cam;
       const int known = static_cast<int>(warm_start->landmark_cluster.size());
@@ -128,10 +152,36 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
                                      m.cam_from_cluster[k]);
   }
 
-  if (options.run_bundle_adjustment) {
-    AdjustBundle(table, camera, options.bundle_adjustment, &est);
-  } else {
-    EvaluateChi2(table, camera, &est);
+  // Reused clusters stay out of the adjustment (no ClusterMotion there, so no solve touches
+  // their landmarks) and join before the final χ².
+  if (options.run_bundle_adjustment) AdjustBundle(table, camera, options.bundle_adjustment, &est);
+  if (!reused.empty()) {
+    for (ClusterMotion& m : reused) {
+      for (size_t k = 0; k < m.frames.size(); ++k)
+        m.world_from_cluster.push_back(est.world_from_cam[m.frames[k] - range.begin] *
+                                       m.cam_from_cluster[k]);
+      est.clusters.push_back(std::move(m));
+    }
+    std::sort(est.clusters.begin(), est.clusters.end(),
+              [](const ClusterMotion& a, const ClusterMotion& b) { return a.cluster < b.cluster; });
+  }
+  if (!options.run_bundle_adjustment || !reused.empty()) EvaluateChi2(table, camera, &est);
+  if (caching) {
+    cache->reused = static_cast<int>(reused.size());
+    for (const ClusterMotion& m : est.clusters) {
+      if (std::any_of(kept.begin(), kept.end(),
+                      [&m](const MovingClusterCache::Entry& e) { return e.motion.cluster == m.cluster; }))
+        continue;
+      MovingClusterCache::Entry e;
+      e.landmarks = members.at(m.cluster);
+      e.motion = m;
+      e.motion.world_from_cluster.clear();
+      for (int l : e.landmarks) e.points.push_back(est.landmark_in_cluster[l]);
+      kept.push_back(std::move(e));
+    }
+    cache->range = range;
+    cache->options = options;
+    cache->entries = std::move(kept);
   }
   return est;
 }

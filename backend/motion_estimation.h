@@ -50,6 +50,24 @@ struct MotionEstimationOptions {
   void Check() const;
   /// Reads every field by its snake_case name; nested options from their sections.
   void Load(OptionsReader& reader);
+  bool operator==(const MotionEstimationOptions&) const = default;
+};
+
+/// [ours] The moving clusters of the latest EstimateMotions call, for reuse by the next one.
+/// With the decoupled adjustment a moving cluster's shape and trajectory T^{cq}_t depend only
+/// on its landmarks, the range and the options, so a cluster given exactly the same landmarks
+/// again is copied instead of re-estimated — the same numbers, since the computation would
+/// repeat. The outer loop's re-labelling leaves many clusters untouched (docs/backend.md).
+struct MovingClusterCache {
+  struct Entry {
+    std::vector<int> landmarks;           ///< the landmarks labelled with it, ascending
+    ClusterMotion motion;                 ///< world_from_cluster left empty (camera-dependent)
+    std::vector<Eigen::Vector3d> points;  ///< landmark_in_cluster, parallel; NaN = unused
+  };
+  FrameRange range;
+  MotionEstimationOptions options;
+  std::vector<Entry> entries;
+  int reused = 0;  ///< clusters copied by the latest call
 };
 
 /// Shapes and trajectories of every cluster of `landmark_cluster` ([landmark id]: -1 unused,
@@ -65,9 +83,14 @@ struct MotionEstimationOptions {
 /// frame-to-frame shape initialisation: the outer loop's labellings differ by a few
 /// landmarks between iterations, and the static adjustment — most of the time — converges
 /// in a few iterations from there instead of removing the initialisation's drift again.
+///
+/// `cache` (may be null) [ours]: moving clusters of the previous call are reused when the
+/// landmark set, range and options are the same and the coupling is decoupled (the result is
+/// then identical to re-estimating them); afterwards it holds this call's moving clusters.
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
                                const MotionEstimationOptions& options,
-                               const MotionEstimate* warm_start = nullptr);
+                               const MotionEstimate* warm_start = nullptr,
+                               MovingClusterCache* cache = nullptr);
 
 }  // namespace cslam

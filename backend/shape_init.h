@@ -57,6 +57,7 @@ struct ShapeInitOptions {
   void Check() const;
   /// Reads every field by its snake_case name.
   void Load(OptionsReader& reader);
+  bool operator==(const ShapeInitOptions&) const = default;
 };
 
 /// Shape and trajectory of one cluster in its own frame.

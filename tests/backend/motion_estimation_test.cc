@@ -80,6 +80,69 @@ TEST(EstimateMotions, OutputIsIndexedByLandmarkAndFrame) {
   EXPECT_GT(est.num_residuals, 0);
 }
 
+// Bit-for-bit equality of two estimates (the cache claims the identical result).
+void ExpectIdentical(const MotionEstimate& a, const MotionEstimate& b) {
+  EXPECT_EQ(a.landmark_cluster, b.landmark_cluster);
+  ASSERT_EQ(a.landmark_in_cluster.size(), b.landmark_in_cluster.size());
+  for (size_t i = 0; i < a.landmark_in_cluster.size(); ++i)
+    if (a.landmark_in_cluster[i].allFinite() || b.landmark_in_cluster[i].allFinite())
+      EXPECT_EQ(a.landmark_in_cluster[i], b.landmark_in_cluster[i]) << "landmark " << i;
+  ASSERT_EQ(a.world_from_cam.size(), b.world_from_cam.size());
+  for (size_t f = 0; f < a.world_from_cam.size(); ++f)
+    EXPECT_EQ(a.world_from_cam[f].matrix(), b.world_from_cam[f].matrix()) << "frame " << f;
+  ASSERT_EQ(a.clusters.size(), b.clusters.size());
+  for (size_t c = 0; c < a.clusters.size(); ++c) {
+    EXPECT_EQ(a.clusters[c].cluster, b.clusters[c].cluster);
+    EXPECT_EQ(a.clusters[c].frames, b.clusters[c].frames);
+    ASSERT_EQ(a.clusters[c].cam_from_cluster.size(), b.clusters[c].cam_from_cluster.size());
+    for (size_t k = 0; k < a.clusters[c].cam_from_cluster.size(); ++k) {
+      EXPECT_EQ(a.clusters[c].cam_from_cluster[k].matrix(), b.clusters[c].cam_from_cluster[k].matrix());
+      EXPECT_EQ(a.clusters[c].world_from_cluster[k].matrix(),
+                b.clusters[c].world_from_cluster[k].matrix());
+    }
+  }
+  EXPECT_EQ(a.chi2, b.chi2);
+  EXPECT_EQ(a.num_residuals, b.num_residuals);
+}
+
+TEST(EstimateMotions, CachedClustersGiveTheResultOfReEstimatingThem) {
+  BodySceneSpec spec = NoisyMultiBody();
+  spec.num_moving = 3;
+  spec.num_static = 200;
+  spec.points_per_body = 30;
+  const BodyScene scene = MakeBodyScene(spec);
+  const FrameRange range{0, scene.table.num_frames()};
+  const MotionEstimationOptions options;
+  MovingClusterCache cache;
+  const MotionEstimate first =
+      EstimateMotions(scene.table, scene.camera, range, scene.labels, options, nullptr, &cache);
+  EXPECT_EQ(cache.reused, 0);
+  ASSERT_EQ(cache.entries.size(), 3u);
+
+  // The next labelling: body 1 keeps its landmarks under a new label, body 2 loses one
+  // landmark to the static world, body 3 is unchanged; warm-started like the outer loop.
+  std::vector<int> next = scene.labels;
+  int moved = -1;
+  for (size_t i = 0; i < next.size(); ++i) {
+    if (scene.labels[i] == 1) next[i] = 4;
+    if (scene.labels[i] == 2 && moved < 0) moved = static_cast<int>(i);
+  }
+  ASSERT_GE(moved, 0);
+  next[moved] = 0;
+  const MotionEstimate cached =
+      EstimateMotions(scene.table, scene.camera, range, next, options, &first, &cache);
+  EXPECT_EQ(cache.reused, 2);
+  const MotionEstimate fresh =
+      EstimateMotions(scene.table, scene.camera, range, next, options, &first);
+  ExpectIdentical(cached, fresh);
+
+  // Other options invalidate the cache.
+  MotionEstimationOptions fewer = options;
+  fewer.bundle_adjustment.max_iterations = 5;
+  EstimateMotions(scene.table, scene.camera, range, next, fewer, &first, &cache);
+  EXPECT_EQ(cache.reused, 0);
+}
+
 TEST(EstimateMotions, ProgressiveDcsSplitsOffMovingPoints) {
   BodySceneSpec spec = NoisyMultiBody();
   spec.num_moving = 1;
