@@ -26,6 +26,27 @@ struct MapStateOptions {
   /// Shared landmarks needed to align a window's cluster frame to the map's by Umeyama;
   /// fewer falls back to a shared frame of the trajectories.
   int min_shared_for_alignment = 4;
+  /// Motion-checked association: a window cluster below association_overlap still continues
+  /// the map cluster holding this fraction of its landmarks the map already knows (new
+  /// landmarks say nothing either way), when the two trajectories agree (motion_tolerance).
+  /// Outdoors landmarks turn over within a window, so true continuations often fall under
+  /// 70 % of all landmarks. The static world (0) is a candidate too. 1 only accepts clusters
+  /// whose known landmarks all lie in one map cluster.
+  double motion_association_overlap = 0.5;
+  /// Shared frames needed before two trajectories are compared at all.
+  int motion_min_frames = 5;
+  /// Two trajectories describe one rigid body when, with the best constant body-frame offset,
+  /// they place the body's points within this RMS distance over the shared frames, relative
+  /// to the points' mean distance from the camera (stereo depth noise grows with range).
+  double motion_tolerance = 0.01;
+  /// After each window, merge map clusters whose trajectories agree over at least
+  /// motion_min_frames shared frames (the younger id goes, its landmarks join the older one),
+  /// and fold clusters that hold still into the static world (id 0).
+  bool merge_agreeing_clusters = true;
+  /// A window cluster that continues no map cluster starts a new one only with at least this
+  /// many landmarks; smaller ones leave their landmarks as the map had them (spec §7: dropped
+  /// by history). 1 creates every cluster.
+  int min_new_cluster_landmarks = 1;
   void Check() const;
   void Load(OptionsReader& r);
 };
@@ -37,6 +58,9 @@ struct WindowIntegration {
   bool gap = false;          ///< the window shares no frame with the map: chained at the last pose
   int associated = 0;        ///< window clusters that continued a map cluster
   int created = 0;           ///< window clusters that started a new map cluster
+  int by_motion = 0;         ///< of `associated`, those below association_overlap (motion-checked)
+  int dropped = 0;           ///< small unassociated window clusters that created nothing
+  std::vector<std::pair<int, int>> merged;  ///< (surviving map id, merged younger id); 0 = static
   std::vector<std::pair<int, int>> cluster_map;  ///< (window label, map id)
 };
 
@@ -77,6 +101,14 @@ class MapState {
     Eigen::Vector3d p_in_cluster = Eigen::Vector3d::Zero();
   };
   void SetCameraPose(int frame, const Pose& world_from_cam);
+  void Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster);
+  /// Landmarks of every cluster (moving and static), in their cluster's frame.
+  std::map<int, std::vector<int>> MembersByCluster() const;
+  /// Merges agreeing map clusters (merge_agreeing_clusters), recording them in `info`.
+  void MergeAgreeingClusters(WindowIntegration* info);
+  /// Moves every landmark of `younger` into `older` (older_from_younger maps the frames) and
+  /// extends the older trajectory with the younger's poses at frames it lacks.
+  void MergeInto(int older, int younger, const Pose& older_from_younger);
 
   MapStateOptions options_;
   std::vector<std::optional<Pose>> world_from_cam_;
