@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
 
 #include "core/errors.h"
 #include "core/logging.h"
@@ -17,9 +14,10 @@ void MapStateOptions::Check() const {
               "must be in (0, 1]", association_overlap);
   CheckOption(min_shared_for_alignment >= 3, "map.min_shared_for_alignment",
               "must be at least 3 (a rigid alignment needs 3 points)", min_shared_for_alignment);
-  CheckOption(motion_association_overlap > 0 && motion_association_overlap <= 1,
-              "map.motion_association_overlap", "must be in (0, 1] (1 disables it)",
-              motion_association_overlap);
+  CheckOption(known_overlap > 0 && known_overlap <= 1, "map.known_overlap", "must be in (0, 1]",
+              known_overlap);
+  CheckOption(containment_overlap > 0 && containment_overlap <= 1, "map.containment_overlap",
+              "must be in (0, 1]", containment_overlap);
   CheckOption(motion_min_frames >= 2, "map.motion_min_frames",
               "must be at least 2 (one frame cannot show a motion)", motion_min_frames);
   CheckOption(motion_tolerance > 0, "map.motion_tolerance",
@@ -31,7 +29,9 @@ void MapStateOptions::Check() const {
 void MapStateOptions::Load(OptionsReader& r) {
   r.Read("association_overlap", &association_overlap);
   r.Read("min_shared_for_alignment", &min_shared_for_alignment);
-  r.Read("motion_association_overlap", &motion_association_overlap);
+  r.Read("known_overlap", &known_overlap);
+  r.Read("containment_overlap", &containment_overlap);
+  r.Read("motion_association", &motion_association);
   r.Read("motion_min_frames", &motion_min_frames);
   r.Read("motion_tolerance", &motion_tolerance);
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
@@ -125,7 +125,12 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     int window_label, map_id, shared;
     double ratio;        // shared / the window cluster's landmarks
     double known_ratio;  // shared / those of them the map already knows
+    double contained;    // shared / the map cluster's landmarks labelled in this window
   };
+  std::map<int, int> in_window;  // map cluster → its landmarks the window labelled
+  for (const auto& [label, ids] : members)
+    for (int l : ids)
+      if (const int c = ClusterOf(l); c >= 1) ++in_window[c];
   std::vector<Candidate> candidates;
   for (const auto& [label, ids] : members) {
     if (label == 0) continue;
@@ -137,7 +142,8 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     }
     for (const auto& [map_id, count] : shared)
       candidates.push_back({label, map_id, count, double(count) / double(ids.size()),
-                            double(count) / double(known)});
+                            double(count) / double(known),
+                            map_id >= 1 ? double(count) / double(in_window[map_id]) : 0.0});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return a.ratio != b.ratio ? a.ratio > b.ratio : a.window_label < b.window_label;
@@ -150,6 +156,22 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     if (window_to_map.count(c.window_label) || map_taken[c.map_id]) continue;
     window_to_map[c.window_label] = c.map_id;
     map_taken[c.map_id] = true;
+  }
+
+  // Containment test (see MapStateOptions): the object's part still in view moved wholesale
+  // into this window cluster, which the newly tracked landmarks only diluted.
+  std::vector<Candidate> by_contained = candidates;
+  std::stable_sort(by_contained.begin(), by_contained.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.contained > b.contained; });
+  std::map<int, bool> contained;
+  for (const auto& c : by_contained) {
+    if (c.contained < options_.containment_overlap) break;
+    if (c.known_ratio < options_.known_overlap || c.shared < options_.min_shared_for_alignment ||
+        window_to_map.count(c.window_label) || map_taken[c.map_id])
+      continue;
+    window_to_map[c.window_label] = c.map_id;
+    map_taken[c.map_id] = true;
+    contained[c.window_label] = true;
   }
 
   // The window's cluster trajectories in map world coordinates.
@@ -169,7 +191,7 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     return a.known_ratio > b.known_ratio;
   });
   for (const auto& c : by_known) {
-    if (c.known_ratio < options_.motion_association_overlap) break;
+    if (!options_.motion_association || c.known_ratio < options_.known_overlap) break;
     if (window_to_map.count(c.window_label) || to_static.count(c.window_label) ||
         (c.map_id >= 1 && map_taken[c.map_id]))
       continue;
@@ -234,6 +256,7 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
       if (aligned) {
         map_id = it->second;
         ++info.associated;
+        if (contained.count(label)) ++info.by_containment;
       }
     }
     if (map_id < 0 && static_cast<int>(ids.size()) < options_.min_new_cluster_landmarks) {
@@ -257,52 +280,6 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     }
     for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
   }
-  // DIAG-BEGIN
-  if (const char* gtp = std::getenv("CSLAM_MAPDIAG")) {
-    static std::vector<int> gt;
-    if (gt.empty()) {
-      std::ifstream in(gtp);
-      std::string line;
-      std::getline(in, line);
-      while (std::getline(in, line)) gt.push_back(std::stoi(line.substr(line.find(',') + 1)));
-    }
-    auto majority = [&](const std::vector<int>& ids) {
-      std::map<int, int> n;
-      for (int l : ids) ++n[l < (int)gt.size() ? gt[l] : -1];
-      int best = -1, cnt = 0;
-      for (auto [o, k] : n) if (k > cnt) { best = o; cnt = k; }
-      return std::to_string(best) + "/" + std::to_string(cnt) + "/" + std::to_string(ids.size());
-    };
-    // window clusters: best candidate
-    for (const auto& [label, ids] : members) {
-      if (label == 0) continue;
-      const ClusterMotion* motion = window.FindCluster(label);
-      if (!motion) continue;
-      const auto win = window_trajectory(*motion);
-      std::vector<Eigen::Vector3d> points;
-      for (int l : ids) points.push_back(window.landmark_in_cluster[l]);
-      for (const auto& c : candidates) {
-        if (c.window_label != label) continue;
-        std::vector<int> mids;
-        for (auto& [l, st] : landmarks_) if (st.cluster == c.map_id) mids.push_back(l);
-        const auto ag = CompareMotions(c.map_id == 0 ? StaticTrajectory(win) : clusters_[c.map_id].world_from_cluster, win, points, world_from_cam_);
-        std::printf("DIAGW %d lab %d win %s map %d %s shared %d ratio %.2f frames %d rms %.3f rel %.4f\n", begin, label, majority(ids).c_str(), c.map_id, c.map_id == 0 ? "static" : majority(mids).c_str(), c.shared, c.ratio, ag.frames, ag.rms_m, ag.relative_rms());
-      }
-    }
-    const auto mem = MembersByCluster();
-    for (const auto& [y, ids] : mem) {
-      if (y == 0) continue;
-      std::vector<Eigen::Vector3d> points;
-      for (int l : ids) points.push_back(landmarks_.at(l).p_in_cluster);
-      for (const auto& [o, oids] : mem) {
-        if (o >= y) break;
-        const auto ag = CompareMotions(o == 0 ? StaticTrajectory(clusters_[y].world_from_cluster) : clusters_[o].world_from_cluster, clusters_[y].world_from_cluster, points, world_from_cam_);
-        if (ag.frames < 2) continue;
-        std::printf("DIAGP %d older %d %s younger %d %s frames %d rms %.3f rel %.4f\n", begin, o, o == 0 ? "static" : majority(oids).c_str(), y, majority(ids).c_str(), ag.frames, ag.rms_m, ag.relative_rms());
-      }
-    }
-  }
-  // DIAG-END
   if (options_.merge_agreeing_clusters) MergeAgreeingClusters(&info);
   return info;
 }

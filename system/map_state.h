@@ -26,13 +26,17 @@ struct MapStateOptions {
   /// Shared landmarks needed to align a window's cluster frame to the map's by Umeyama;
   /// fewer falls back to a shared frame of the trajectories.
   int min_shared_for_alignment = 4;
-  /// Motion-checked association: a window cluster below association_overlap still continues
-  /// the map cluster holding this fraction of its landmarks the map already knows (new
-  /// landmarks say nothing either way), when the two trajectories agree (motion_tolerance).
-  /// Outdoors landmarks turn over within a window, so true continuations often fall under
-  /// 70 % of all landmarks. The static world (0) is a candidate too. 1 only accepts clusters
-  /// whose known landmarks all lie in one map cluster.
-  double motion_association_overlap = 0.5;
+  /// Below association_overlap, a window cluster still continues a map cluster when the map
+  /// cluster holds at least this fraction of the window cluster's landmarks the map already
+  /// knows (new landmarks say nothing either way: outdoors they are a third of a window) and
+  /// either test below passes. The static world (0) is a candidate of the motion test only.
+  double known_overlap = 0.5;
+  /// Containment test: the window cluster holds at least this fraction of the map cluster's
+  /// landmarks that the window labelled (the object's part still in view), and at least
+  /// min_shared_for_alignment of them. 1 disables it.
+  double containment_overlap = 0.7;
+  /// Motion test: the two trajectories agree (motion_tolerance, motion_min_frames).
+  bool motion_association = true;
   /// Shared frames needed before two trajectories are compared at all.
   int motion_min_frames = 5;
   /// Two trajectories describe one rigid body when, with the best constant body-frame offset,
@@ -58,7 +62,8 @@ struct WindowIntegration {
   bool gap = false;          ///< the window shares no frame with the map: chained at the last pose
   int associated = 0;        ///< window clusters that continued a map cluster
   int created = 0;           ///< window clusters that started a new map cluster
-  int by_motion = 0;         ///< of `associated`, those below association_overlap (motion-checked)
+  int by_containment = 0;    ///< of `associated`, those by the containment test
+  int by_motion = 0;         ///< window clusters continued by the motion test (incl. to static)
   int dropped = 0;           ///< small unassociated window clusters that created nothing
   std::vector<std::pair<int, int>> merged;  ///< (surviving map id, merged younger id); 0 = static
   std::vector<std::pair<int, int>> cluster_map;  ///< (window label, map id)
