@@ -338,6 +338,8 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
                            y->second.world_from_cluster, points, world_from_cam_);
         if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
           continue;
+        GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m)",
+                                   younger, older, agreement.frames, agreement.rms_m);
         MergeInto(older, younger, agreement.a_from_b);
         info->merged.emplace_back(older, younger);
         merged = true;
