@@ -5,6 +5,7 @@
 
 #include "core/errors.h"
 #include "core/logging.h"
+#include "system/motion_agreement.h"
 
 namespace cslam {
 
@@ -13,11 +14,28 @@ void MapStateOptions::Check() const {
               "must be in (0, 1]", association_overlap);
   CheckOption(min_shared_for_alignment >= 3, "map.min_shared_for_alignment",
               "must be at least 3 (a rigid alignment needs 3 points)", min_shared_for_alignment);
+  CheckOption(known_overlap > 0 && known_overlap <= 1, "map.known_overlap", "must be in (0, 1]",
+              known_overlap);
+  CheckOption(containment_overlap > 0 && containment_overlap <= 1, "map.containment_overlap",
+              "must be in (0, 1]", containment_overlap);
+  CheckOption(motion_min_frames >= 2, "map.motion_min_frames",
+              "must be at least 2 (one frame cannot show a motion)", motion_min_frames);
+  CheckOption(motion_tolerance > 0, "map.motion_tolerance",
+              "must be positive (RMS misplacement / mean range to the camera)", motion_tolerance);
+  CheckOption(min_new_cluster_landmarks >= 1, "map.min_new_cluster_landmarks",
+              "must be at least 1", min_new_cluster_landmarks);
 }
 
 void MapStateOptions::Load(OptionsReader& r) {
   r.Read("association_overlap", &association_overlap);
   r.Read("min_shared_for_alignment", &min_shared_for_alignment);
+  r.Read("known_overlap", &known_overlap);
+  r.Read("containment_overlap", &containment_overlap);
+  r.Read("motion_association", &motion_association);
+  r.Read("motion_min_frames", &motion_min_frames);
+  r.Read("motion_tolerance", &motion_tolerance);
+  r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
+  r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
   r.Finish();
 }
 
@@ -99,35 +117,33 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     if (window.landmark_cluster[l] >= 0 && window.landmark_in_cluster[l].allFinite())
       members[window.landmark_cluster[l]].push_back(l);
 
-  auto assign = [&](int landmark, int cluster, const Eigen::Vector3d& p) {
-    auto& state = landmarks_[landmark];
-    if (state.cluster >= 1 && state.cluster != cluster) {
-      auto it = clusters_.find(state.cluster);
-      if (it != clusters_.end()) --it->second.num_landmarks;
-    }
-    if (cluster >= 1 && state.cluster != cluster) ++clusters_[cluster].num_landmarks;
-    state.cluster = cluster;
-    state.p_in_cluster = p;
-  };
-
   if (auto it = members.find(0); it != members.end())
-    for (int l : it->second) assign(l, 0, map_from_window * window.landmark_in_cluster[l]);
+    for (int l : it->second) Assign(l, 0, map_from_window * window.landmark_in_cluster[l]);
 
   // Candidate associations, strongest overlap first, one window cluster per map cluster.
   struct Candidate {
     int window_label, map_id, shared;
-    double ratio;
+    double ratio;        // shared / the window cluster's landmarks
+    double known_ratio;  // shared / those of them the map already knows
+    double contained;    // shared / the map cluster's landmarks labelled in this window
   };
+  std::map<int, int> in_window;  // map cluster → its landmarks the window labelled
+  for (const auto& [label, ids] : members)
+    for (int l : ids)
+      if (const int c = ClusterOf(l); c >= 1) ++in_window[c];
   std::vector<Candidate> candidates;
   for (const auto& [label, ids] : members) {
     if (label == 0) continue;
     std::map<int, int> shared;
+    int known = 0;
     for (int l : ids) {
       const int c = ClusterOf(l);
-      if (c >= 1) ++shared[c];
+      if (c >= 0) ++shared[c], ++known;
     }
     for (const auto& [map_id, count] : shared)
-      candidates.push_back({label, map_id, count, double(count) / double(ids.size())});
+      candidates.push_back({label, map_id, count, double(count) / double(ids.size()),
+                            double(count) / double(known),
+                            map_id >= 1 ? double(count) / double(in_window[map_id]) : 0.0});
   }
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return a.ratio != b.ratio ? a.ratio > b.ratio : a.window_label < b.window_label;
@@ -135,45 +151,117 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   std::map<int, int> window_to_map;
   std::map<int, bool> map_taken;
   for (const auto& c : candidates) {
+    if (c.map_id == 0) continue;  // the static world continues through the motion check only
     if (c.ratio < options_.association_overlap) break;
     if (window_to_map.count(c.window_label) || map_taken[c.map_id]) continue;
     window_to_map[c.window_label] = c.map_id;
     map_taken[c.map_id] = true;
   }
 
+  // Containment test (see MapStateOptions): the object's part still in view moved wholesale
+  // into this window cluster, which the newly tracked landmarks only diluted.
+  std::vector<Candidate> by_contained = candidates;
+  std::stable_sort(by_contained.begin(), by_contained.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.contained > b.contained; });
+  std::map<int, bool> contained;
+  for (const auto& c : by_contained) {
+    if (c.contained < options_.containment_overlap) break;
+    if (c.known_ratio < options_.known_overlap || c.shared < options_.min_shared_for_alignment ||
+        window_to_map.count(c.window_label) || map_taken[c.map_id])
+      continue;
+    window_to_map[c.window_label] = c.map_id;
+    map_taken[c.map_id] = true;
+    contained[c.window_label] = true;
+  }
+
+  // The window's cluster trajectories in map world coordinates.
+  auto window_trajectory = [&](const ClusterMotion& motion) {
+    std::map<int, Pose> t;
+    for (size_t k = 0; k < motion.frames.size(); ++k)
+      t.emplace(motion.frames[k], map_from_window * motion.world_from_cluster[k]);
+    return t;
+  };
+  // Motion-checked association below association_overlap (see MapStateOptions). The static
+  // world (0) is a candidate too: a window cluster made of map-static landmarks that holds
+  // still in the map was the static world all along.
+  std::map<int, Pose> by_motion;  // window label → mapcluster_from_wincluster
+  std::map<int, bool> to_static;
+  std::vector<Candidate> by_known = candidates;
+  std::stable_sort(by_known.begin(), by_known.end(), [](const Candidate& a, const Candidate& b) {
+    return a.known_ratio > b.known_ratio;
+  });
+  for (const auto& c : by_known) {
+    if (!options_.motion_association || c.known_ratio < options_.known_overlap) break;
+    if (window_to_map.count(c.window_label) || to_static.count(c.window_label) ||
+        (c.map_id >= 1 && map_taken[c.map_id]))
+      continue;
+    const ClusterMotion* motion = window.FindCluster(c.window_label);
+    if (!motion || motion->frames.empty()) continue;
+    const std::map<int, Pose> win = window_trajectory(*motion);
+    std::vector<Eigen::Vector3d> points;
+    for (int l : members[c.window_label]) points.push_back(window.landmark_in_cluster[l]);
+    const MotionAgreement agreement =
+        CompareMotions(c.map_id == 0 ? StaticTrajectory(win) : clusters_[c.map_id].world_from_cluster,
+                       win, points, world_from_cam_);
+    if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
+      continue;
+    if (c.map_id == 0) {
+      to_static[c.window_label] = true;
+      info.cluster_map.emplace_back(c.window_label, 0);
+      for (int l : members[c.window_label]) Assign(l, 0, agreement.a_from_b * window.landmark_in_cluster[l]);
+      ++info.by_motion;
+      continue;
+    }
+    window_to_map[c.window_label] = c.map_id;
+    map_taken[c.map_id] = true;
+    by_motion[c.window_label] = agreement.a_from_b;
+  }
+
   for (const auto& [label, ids] : members) {
-    if (label == 0) continue;
+    if (label == 0 || to_static.count(label)) continue;
     const ClusterMotion* motion = window.FindCluster(label);
     if (!motion || motion->frames.empty()) continue;
     // mapcluster_from_wincluster maps the window's cluster frame into the map's.
     Pose mapcluster_from_wincluster = Pose::Identity();
     int map_id = -1;
     if (auto it = window_to_map.find(label); it != window_to_map.end()) {
-      std::vector<Eigen::Vector3d> src, dst;
-      for (int l : ids) {
-        if (ClusterOf(l) != it->second) continue;
-        src.push_back(window.landmark_in_cluster[l]);
-        dst.push_back(landmarks_[l].p_in_cluster);
-      }
-      const MapCluster& mc = clusters_[it->second];
       bool aligned = false;
-      if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment) {
-        mapcluster_from_wincluster = AlignUmeyama(src, dst, false).rigid;
+      if (auto m = by_motion.find(label); m != by_motion.end()) {
+        // The shared landmarks may be the mislabelled few: trust the motion's offset.
+        mapcluster_from_wincluster = m->second;
         aligned = true;
+        ++info.by_motion;
       } else {
-        for (size_t k = motion->frames.size(); k-- > 0;) {
-          const auto pose = mc.world_from_cluster.find(motion->frames[k]);
-          if (pose == mc.world_from_cluster.end()) continue;
-          mapcluster_from_wincluster =
-              pose->second.inverse() * map_from_window * motion->world_from_cluster[k];
+        std::vector<Eigen::Vector3d> src, dst;
+        for (int l : ids) {
+          if (ClusterOf(l) != it->second) continue;
+          src.push_back(window.landmark_in_cluster[l]);
+          dst.push_back(landmarks_[l].p_in_cluster);
+        }
+        const MapCluster& mc = clusters_[it->second];
+        if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment) {
+          mapcluster_from_wincluster = AlignUmeyama(src, dst, false).rigid;
           aligned = true;
-          break;
+        } else {
+          for (size_t k = motion->frames.size(); k-- > 0;) {
+            const auto pose = mc.world_from_cluster.find(motion->frames[k]);
+            if (pose == mc.world_from_cluster.end()) continue;
+            mapcluster_from_wincluster =
+                pose->second.inverse() * map_from_window * motion->world_from_cluster[k];
+            aligned = true;
+            break;
+          }
         }
       }
       if (aligned) {
         map_id = it->second;
         ++info.associated;
+        if (contained.count(label)) ++info.by_containment;
       }
+    }
+    if (map_id < 0 && static_cast<int>(ids.size()) < options_.min_new_cluster_landmarks) {
+      ++info.dropped;
+      continue;
     }
     if (map_id < 0) {
       map_id = next_cluster_id_++;
@@ -190,9 +278,76 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
       mc.world_from_cluster.try_emplace(
           motion->frames[k], map_from_window * motion->world_from_cluster[k] * wincluster_from_mapcluster);
     }
-    for (int l : ids) assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
+    for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
   }
+  if (options_.merge_agreeing_clusters) MergeAgreeingClusters(&info);
   return info;
+}
+
+void MapState::Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster) {
+  auto& state = landmarks_.try_emplace(landmark).first->second;
+  if (state.cluster >= 1 && state.cluster != cluster) {
+    auto it = clusters_.find(state.cluster);
+    if (it != clusters_.end()) --it->second.num_landmarks;
+  }
+  if (cluster >= 1 && state.cluster != cluster) ++clusters_[cluster].num_landmarks;
+  state.cluster = cluster;
+  state.p_in_cluster = p_in_cluster;
+}
+
+std::map<int, std::vector<int>> MapState::MembersByCluster() const {
+  std::map<int, std::vector<int>> members;
+  for (const auto& [l, state] : landmarks_)
+    if (state.cluster >= 0) members[state.cluster].push_back(l);
+  for (auto& [c, ids] : members) std::sort(ids.begin(), ids.end());
+  return members;
+}
+
+void MapState::MergeInto(int older, int younger, const Pose& older_from_younger) {
+  const auto members = MembersByCluster();
+  if (const auto it = members.find(younger); it != members.end())
+    for (int l : it->second) Assign(l, older, older_from_younger * landmarks_[l].p_in_cluster);
+  if (older >= 1) {
+    MapCluster& o = clusters_[older];
+    const Pose younger_from_older = older_from_younger.inverse();
+    for (const auto& [f, pose] : clusters_[younger].world_from_cluster)
+      o.world_from_cluster.try_emplace(f, pose * younger_from_older);
+  }
+  clusters_.erase(younger);
+}
+
+void MapState::MergeAgreeingClusters(WindowIntegration* info) {
+  // Oldest first, so a chain of fragments folds into the oldest id; repeat until nothing
+  // merges, since a merge extends the older trajectory over frames it may now share.
+  for (bool merged = true; merged;) {
+    merged = false;
+    const auto members = MembersByCluster();
+    for (const auto& [younger, ids] : members) {
+      if (younger == 0) continue;
+      const auto y = clusters_.find(younger);
+      if (y == clusters_.end() || y->second.world_from_cluster.empty()) continue;
+      std::vector<Eigen::Vector3d> points;
+      for (int l : ids) points.push_back(landmarks_.at(l).p_in_cluster);
+      for (const auto& [older, older_ids] : members) {
+        if (older >= younger) break;
+        const auto o = clusters_.find(older);
+        if (older >= 1 && o == clusters_.end()) continue;
+        const MotionAgreement agreement =
+            CompareMotions(older == 0 ? StaticTrajectory(y->second.world_from_cluster)
+                                      : o->second.world_from_cluster,
+                           y->second.world_from_cluster, points, world_from_cam_);
+        if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
+          continue;
+        GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m)",
+                                   younger, older, agreement.frames, agreement.rms_m);
+        MergeInto(older, younger, agreement.a_from_b);
+        info->merged.emplace_back(older, younger);
+        merged = true;
+        break;
+      }
+      if (merged) break;
+    }
+  }
 }
 
 }  // namespace cslam

@@ -26,6 +26,31 @@ struct MapStateOptions {
   /// Shared landmarks needed to align a window's cluster frame to the map's by Umeyama;
   /// fewer falls back to a shared frame of the trajectories.
   int min_shared_for_alignment = 4;
+  /// Below association_overlap, a window cluster still continues a map cluster when the map
+  /// cluster holds at least this fraction of the window cluster's landmarks the map already
+  /// knows (new landmarks say nothing either way: outdoors they are a third of a window) and
+  /// either test below passes. The static world (0) is a candidate of the motion test only.
+  double known_overlap = 0.5;
+  /// Containment test: the window cluster holds at least this fraction of the map cluster's
+  /// landmarks that the window labelled (the object's part still in view), and at least
+  /// min_shared_for_alignment of them. 1 disables it.
+  double containment_overlap = 0.7;
+  /// Motion test: the two trajectories agree (motion_tolerance, motion_min_frames).
+  bool motion_association = true;
+  /// Shared frames needed before two trajectories are compared at all.
+  int motion_min_frames = 5;
+  /// Two trajectories describe one rigid body when, with the best constant body-frame offset,
+  /// they place the body's points within this RMS distance over the shared frames, relative
+  /// to the points' mean distance from the camera (stereo depth noise grows with range).
+  double motion_tolerance = 0.01;
+  /// After each window, merge map clusters whose trajectories agree over at least
+  /// motion_min_frames shared frames (the younger id goes, its landmarks join the older one),
+  /// and fold clusters that hold still into the static world (id 0).
+  bool merge_agreeing_clusters = true;
+  /// A window cluster that continues no map cluster starts a new one only with at least this
+  /// many landmarks; smaller ones leave their landmarks as the map had them (spec §7: dropped
+  /// by history). 1 creates every cluster.
+  int min_new_cluster_landmarks = 1;
   void Check() const;
   void Load(OptionsReader& r);
 };
@@ -37,6 +62,10 @@ struct WindowIntegration {
   bool gap = false;          ///< the window shares no frame with the map: chained at the last pose
   int associated = 0;        ///< window clusters that continued a map cluster
   int created = 0;           ///< window clusters that started a new map cluster
+  int by_containment = 0;    ///< of `associated`, those by the containment test
+  int by_motion = 0;         ///< window clusters continued by the motion test (incl. to static)
+  int dropped = 0;           ///< small unassociated window clusters that created nothing
+  std::vector<std::pair<int, int>> merged;  ///< (surviving map id, merged younger id); 0 = static
   std::vector<std::pair<int, int>> cluster_map;  ///< (window label, map id)
 };
 
@@ -77,6 +106,14 @@ class MapState {
     Eigen::Vector3d p_in_cluster = Eigen::Vector3d::Zero();
   };
   void SetCameraPose(int frame, const Pose& world_from_cam);
+  void Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster);
+  /// Landmarks of every cluster (moving and static), in their cluster's frame.
+  std::map<int, std::vector<int>> MembersByCluster() const;
+  /// Merges agreeing map clusters (merge_agreeing_clusters), recording them in `info`.
+  void MergeAgreeingClusters(WindowIntegration* info);
+  /// Moves every landmark of `younger` into `older` (older_from_younger maps the frames) and
+  /// extends the older trajectory with the younger's poses at frames it lacks.
+  void MergeInto(int older, int younger, const Pose& older_from_younger);
 
   MapStateOptions options_;
   std::vector<std::optional<Pose>> world_from_cam_;

@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "core/errors.h"
 #include "tests/support/matchers.h"
 #include "tests/support/random.h"
 
@@ -122,9 +123,37 @@ TEST(MapState, StitchesPerfectWindowsIntoTheTrueTrajectories) {
   EXPECT_EQ(map.ClusterOf(0), 0);
 }
 
-TEST(MapState, AClusterWithTooLittleOverlapStartsANewId) {
+// Gives the landmarks of `object` new ids in `e` (appended at the end), as a frontend does
+// when it loses an object's tracks and finds them again: the map cannot know they are the same.
+// Returns the new ids.
+std::vector<int> Reidentify(const World& w, int object, MotionEstimate* e) {
+  std::vector<int> fresh;
+  const size_t n = w.label.size();
+  for (size_t l = 0; l < n; ++l) {
+    if (w.label[l] != object) continue;
+    fresh.push_back(static_cast<int>(e->landmark_cluster.size()));
+    e->landmark_cluster.push_back(e->landmark_cluster[l]);
+    e->landmark_in_cluster.push_back(e->landmark_in_cluster[l]);
+    e->landmark_cluster[l] = -1;
+  }
+  return fresh;
+}
+
+// Expects map cluster `id` to follow true object `obj` up to a constant body-frame offset.
+void ExpectFollows(const World& w, const MapState& map, int id, int obj) {
+  const MapCluster& c = map.clusters().at(id);
+  const Pose offset = w.world_from_object[obj - 1][c.world_from_cluster.begin()->first].inverse() *
+                      c.world_from_cluster.begin()->second;
+  for (const auto& [f, pose] : c.world_from_cluster)
+    EXPECT_TRUE(testing::PoseNear(pose, w.world_from_object[obj - 1][f] * offset, 1e-6, 1e-6))
+        << "cluster " << id << " frame " << f;
+}
+
+TEST(MapState, AClusterWithTooLittleOverlapStartsANewIdWhenMergingIsOff) {
   const World w = MakeWorld(40);
-  MapState map;
+  MapStateOptions o;
+  o.merge_agreeing_clusters = false;
+  MapState map(o);
   map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
   // Second window: object 1's landmarks are re-identified under new ids (a new track set).
   MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
@@ -139,6 +168,105 @@ TEST(MapState, AClusterWithTooLittleOverlapStartsANewId) {
   EXPECT_EQ(info.created, 1);
   EXPECT_EQ(info.associated, 1);
   EXPECT_EQ(map.clusters().size(), 3u);
+}
+
+TEST(MapState, AnObjectSplitIntoTwoMapClustersIsMergedUnderTheOlderId) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Object 1 comes back under new landmark ids: no landmark ties it to map cluster 1, so the
+  // window starts a new cluster; its motion then matches cluster 1's over 25 frames.
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 2}, {2, 1}});
+  const std::vector<int> fresh = Reidentify(w, 1, &e);
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 1);
+  ASSERT_EQ(info.merged.size(), 1u);
+  EXPECT_EQ(info.merged[0], (std::pair<int, int>{1, 3}));
+  ASSERT_EQ(map.clusters().size(), 2u);
+  EXPECT_EQ(map.ClusterOf(30), 1);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  EXPECT_EQ(map.clusters().at(1).num_landmarks, 30);  // the old 15 and their 15 new ids
+  ASSERT_EQ(map.clusters().at(1).world_from_cluster.size(), 35u);
+  ExpectFollows(w, map, 1, 1);
+  ExpectFollows(w, map, 2, 2);
+  for (int l : fresh) {
+    const auto p = map.WorldPosition(l, 33);
+    ASSERT_TRUE(p.has_value());
+    const int original = static_cast<int>(l - w.label.size() + 30);  // object 1 = ids 30..44
+    EXPECT_TRUE(testing::MatrixNear(*p, w.world_from_object[0][33] * w.p_in_object[original], 1e-6));
+  }
+}
+
+TEST(MapState, TwoObjectsWithDifferentMotionsAreNeverMerged) {
+  const World w = MakeWorld(60);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Both objects come back under new ids in every later window: each new cluster may only
+  // join the map cluster of its own object.
+  for (int begin = 5; begin + 30 <= 60; begin += 5) {
+    MotionEstimate e = PerfectWindow(w, {begin, begin + 30}, {{1, 1}, {2, 2}});
+    Reidentify(w, 1, &e);
+    Reidentify(w, 2, &e);
+    const WindowIntegration info = map.Integrate(e);
+    for (const auto& [older, younger] : info.merged) EXPECT_NE(older, 0) << "a moving object went static";
+  }
+  ASSERT_EQ(map.clusters().size(), 2u);
+  EXPECT_NE(map.ClusterOf(30), map.ClusterOf(45));
+  ExpectFollows(w, map, map.ClusterOf(30), 1);
+  ExpectFollows(w, map, map.ClusterOf(45), 2);
+}
+
+TEST(MapState, AFewMislabelledLandmarksDoNotTieAnObjectToAnotherCluster) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Object 2 comes back under new ids, and the window wrongly puts four of object 1's
+  // landmarks into object 2's cluster: the only landmarks of that window cluster the map
+  // knows are cluster 1's.
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
+  const std::vector<int> fresh = Reidentify(w, 2, &e);
+  for (int l = 30; l < 34; ++l) e.landmark_cluster[l] = 2;
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 1);  // object 2's window cluster did not continue cluster 1
+  ASSERT_EQ(map.clusters().size(), 2u);
+  EXPECT_EQ(map.ClusterOf(40), 1);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 2) << l;  // merged into object 2's old id
+  ExpectFollows(w, map, 1, 1);
+  ExpectFollows(w, map, 2, 2);
+}
+
+TEST(MapState, AClusterThatHoldsStillFoldsIntoTheStaticWorld) {
+  const World w = MakeWorld(40);
+  MapState map;
+  // The window wrongly calls ten static landmarks a moving cluster (label 3, not moving).
+  MotionEstimate e = PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}});
+  ClusterMotion still;
+  still.cluster = 3;
+  for (int f = 0; f < 30; ++f) {
+    still.frames.push_back(f);
+    still.world_from_cluster.push_back(Pose::Identity());
+    still.cam_from_cluster.push_back(e.world_from_cam[f].inverse());
+  }
+  e.clusters.push_back(still);
+  for (int l = 0; l < 10; ++l) e.landmark_cluster[l] = 3;
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 3);
+  ASSERT_EQ(info.merged.size(), 1u);
+  EXPECT_EQ(info.merged[0], (std::pair<int, int>{0, 3}));
+  EXPECT_EQ(map.clusters().size(), 2u);
+  for (int l = 0; l < 10; ++l) {
+    EXPECT_EQ(map.ClusterOf(l), 0);
+    EXPECT_TRUE(testing::MatrixNear(*map.WorldPosition(l, 20), w.p_in_object[l], 1e-6));
+  }
+}
+
+TEST(MapState, OptionsRejectAToleranceThatCannotBeMet) {
+  MapStateOptions o;
+  o.motion_tolerance = 0;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o = {};
+  o.motion_min_frames = 1;
+  EXPECT_THROW(o.Check(), ConfigError);
 }
 
 TEST(MapState, AWindowWithoutSharedFramesIsMarkedAsAGap) {
