@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <limits>
 #include <stdexcept>
 
 #include "system/synthetic_scene.h"
 #include "tests/support/matchers.h"
+#include "tests/system/kitti_fixtures.h"
 
 namespace cslam {
 namespace {
@@ -84,6 +86,23 @@ TEST(Pipeline, ForgettingOldObservationsChangesNoResult) {
   }
   EXPECT_EQ(forgot.map.Landmarks(), kept.map.Landmarks());
   for (int l : kept.map.Landmarks()) EXPECT_EQ(forgot.map.ClusterOf(l), kept.map.ClusterOf(l));
+}
+
+TEST(Pipeline, SnapshotsOfDueFramesAreWrittenByTheWriterThread) {
+  testing::TempDir tmp("pipeline_snapshots");
+  for (bool sequential : {false, true}) {
+    PipelineOptions o = OnlineOptionsFor(sequential);
+    o.output.snapshots_every = 10;
+    o.output.overlays_every = 10;  // no images: asked for but nothing to draw on
+    o.out_dir = (tmp.path() / (sequential ? "seq" : "thr")).string();
+    const PipelineResult r = RunPipeline(SmallSyntheticInput(), o);
+    ASSERT_FALSE(r.error);
+    EXPECT_EQ(r.renders.snapshots, 4) << sequential;  // frames 9, 19, 29, 39
+    EXPECT_EQ(r.renders.overlays, 0);
+    EXPECT_EQ(r.renders.failed, 0);
+    for (const char* name : {"snapshot_000009.png", "snapshot_000039.png"})
+      EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(o.out_dir) / "render" / name)) << name;
+  }
 }
 
 TEST(Pipeline, ResourcesAreSampledOverTheRun) {
