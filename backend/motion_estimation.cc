@@ -72,8 +72,8 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
   for (const auto& [label, landmarks] : members) {
     if (label > 0 && cache_usable) {
       auto hit = std::find_if(cache->entries.begin(), cache->entries.end(),
-                              [&landmarks](const MovingClusterCache::Entry& e) {
-                                return e.landmarks == landmarks;
+                              [&ids = landmarks](const MovingClusterCache::Entry& e) {
+                                return e.landmarks == ids;
                               });
       if (hit != cache->entries.end()) {
         for (size_t k = 0; k < landmarks.size(); ++k) {
