@@ -59,7 +59,9 @@ void FillSnapshot(const MapState& map, const RunInput& input, int frame,
   recent->push_back(cam);
   for (const auto& [id, c] : map.clusters()) {
     const auto it = centroids.find(id);
-    if (it == centroids.end()) continue;
+    // Only the clusters seen at this frame: their points are drawn, and a long run's ended
+    // fragments would bury the picture (and overflow its legend).
+    if (it == centroids.end() || !c.world_from_cluster.count(frame)) continue;
     const Eigen::Vector3d centroid = it->second.first / it->second.second;
     RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
     for (auto p = c.world_from_cluster.lower_bound(first);
