@@ -23,6 +23,30 @@ bool SampleStrip(const cv::Mat& grey, float x, float y, int width, int height,
   return true;
 }
 
+bool SampleStripCubicX(const cv::Mat& grey, float x, float y, int width, int height,
+                       std::vector<float>* strip) {
+  const int x0 = static_cast<int>(std::floor(x));
+  const int y0 = static_cast<int>(std::floor(y));
+  if (!(x0 >= 1 && y0 >= 0 && x0 + width + 1 < grey.cols && y0 + height < grey.rows)) return false;
+  const float t = x - x0, fy = y - y0;
+  // Keys (1981) cubic convolution weights of the samples at x0 − 1 … x0 + 2, a = −0.5.
+  const float t2 = t * t, t3 = t2 * t;
+  const float w[4] = {-0.5f * t3 + t2 - 0.5f * t, 1.5f * t3 - 2.5f * t2 + 1.f,
+                      -1.5f * t3 + 2.f * t2 + 0.5f * t, 0.5f * t3 - 0.5f * t2};
+  strip->resize(static_cast<size_t>(width) * height);
+  float* out = strip->data();
+  for (int r = 0; r < height; ++r) {
+    const uint8_t* a = grey.ptr<uint8_t>(y0 + r) + x0 - 1;
+    const uint8_t* b = grey.ptr<uint8_t>(y0 + r + 1) + x0 - 1;
+    for (int c = 0; c < width; ++c) {
+      const float top = w[0] * a[c] + w[1] * a[c + 1] + w[2] * a[c + 2] + w[3] * a[c + 3];
+      const float bottom = w[0] * b[c] + w[1] * b[c + 1] + w[2] * b[c + 2] + w[3] * b[c + 3];
+      *out++ = (1 - fy) * top + fy * bottom;
+    }
+  }
+  return true;
+}
+
 bool SamplePatch(const cv::Mat& grey, float x, float y, int size, ImagePatch* patch) {
   const float half = static_cast<float>(size / 2);
   patch->size = size;

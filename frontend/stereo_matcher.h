@@ -8,6 +8,7 @@
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace cslam {
@@ -31,6 +32,11 @@ struct StereoMatcherOptions {
   /// prior_margin_ratio · d) is searched: ~±45 % covers a car closing at 15 m/s at 3.5 m.
   double prior_margin_px = 6;       ///< px, >= 2
   double prior_margin_ratio = 0.3;  ///< fraction of the prior disparity, >= 0
+  /// Sub-pixel estimator after the integer NCC peak: "lk" = Gauss-Newton (ESM) alignment of
+  /// the zero-mean, equal-norm windows along x with cubic interpolation; "parabola" = vertex
+  /// of the parabola through the three NCC scores around the peak (biased towards whole
+  /// pixels: "pixel locking").
+  std::string subpixel = "lk";
 
   void Check() const;
   void Load(OptionsReader& reader);
