@@ -31,6 +31,8 @@ void StereoMatcherOptions::Check() const {
   CheckOption(prior_margin_px >= 2, "prior_margin_px", "must be >= 2 px (the coarse step)",
               prior_margin_px);
   CheckOption(prior_margin_ratio >= 0, "prior_margin_ratio", "must be >= 0", prior_margin_ratio);
+  CheckOption(std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) < 5,
+              "disparity_offset_px", "must be finite and within ±5 px", disparity_offset_px);
   if (subpixel != "lk" && subpixel != "parabola")
     throw ConfigError("subpixel: must be \"lk\" or \"parabola\", got \"" + subpixel + "\"");
 }
@@ -48,6 +50,7 @@ void StereoMatcherOptions::Load(OptionsReader& reader) {
   reader.Read("prior_margin_px", &prior_margin_px);
   reader.Read("prior_margin_ratio", &prior_margin_ratio);
   reader.Read("subpixel", &subpixel);
+  reader.Read("disparity_offset_px", &disparity_offset_px);
 }
 
 namespace {
@@ -279,6 +282,7 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
   const int radius = o.refine_radius_px;
   const int d1_min = std::max(0, static_cast<int>(std::floor(o.min_disparity_px / 2)));
   const int d1_max = static_cast<int>(std::ceil(o.max_disparity_px / 2));
+  const bool align = o.subpixel == "lk";
   std::vector<cv::KeyPoint> left_kp, right_kp;
   for (size_t i = 0; i < left_points.size(); ++i) {
     const cv::Point2f p = left_points[i];
@@ -347,13 +351,15 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     double u_right = u0 - radius + s_best + ParabolaPeak(cm, c0, cp);
     // The parabola starts the alignment within ~0.1 px of its optimum; a window that does not
     // converge within one pixel of it keeps the parabola's estimate.
-    if (o.subpixel == "lk" && m.aligner.SetTemplate(left_grey, p.x, p.y, o.patch_px))
+    if (align && m.aligner.SetTemplate(left_grey, p.x, p.y, o.patch_px))
       m.aligner.Refine(right_grey, p.y, 1.0, &u_right);
-    res.u_right = static_cast<float>(u_right);
+    // The checks below look at the image; only the reported column carries the correction.
+    const float u_image = static_cast<float>(u_right);
+    res.u_right = static_cast<float>(u_right - o.disparity_offset_px);
 
     // Row error: NCC at rows −2..+2 around the refined match; the parabola vertex around the
     // best of the inner three is the vertical offset (a best row at ±2 means ≥ 1.5 px off).
-    if (!SampleStrip(right_grey, res.u_right - half, p.y - half - 2, o.patch_px, o.patch_px + 4,
+    if (!SampleStrip(right_grey, u_image - half, p.y - half - 2, o.patch_px, o.patch_px + 4,
                      &m.column))
       continue;
     double vert[5];
@@ -375,7 +381,7 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     }
     res.status = StereoReject::kDescriptorDistance;  // until the descriptors agree
     left_kp.emplace_back(p, static_cast<float>(kOrbPatch), 0.f, 0.f, 0, static_cast<int>(i));
-    right_kp.emplace_back(cv::Point2f(res.u_right, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f, 0,
+    right_kp.emplace_back(cv::Point2f(u_image, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f, 0,
                           static_cast<int>(i));
   }
 

@@ -37,6 +37,10 @@ struct StereoMatcherOptions {
   /// of the parabola through the three NCC scores around the peak (biased towards whole
   /// pixels: "pixel locking").
   std::string subpixel = "lk";
+  /// Added to every measured disparity, px (u_right is reported that much smaller): corrects
+  /// a rectification whose right principal point is off by this much. 0 = trust the
+  /// calibration. Finite.
+  double disparity_offset_px = 0;
 
   void Check() const;
   void Load(OptionsReader& reader);
