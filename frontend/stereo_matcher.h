@@ -33,10 +33,11 @@ struct StereoMatcherOptions {
   double prior_margin_px = 6;       ///< px, >= 2
   double prior_margin_ratio = 0.3;  ///< fraction of the prior disparity, >= 0
   /// Sub-pixel estimator after the integer NCC peak: "lk" = Gauss-Newton (ESM) alignment of
-  /// the zero-mean, equal-norm windows along x with cubic interpolation; "parabola" = vertex
-  /// of the parabola through the three NCC scores around the peak (biased towards whole
-  /// pixels: "pixel locking").
-  std::string subpixel = "lk";
+  /// the zero-mean, equal-norm windows along x with cubic interpolation (unbiased on exact
+  /// shifts); "parabola" = vertex of the parabola through the three NCC scores around the
+  /// peak (pulled towards whole pixels). The default stays "parabola": with "lk" the batch
+  /// backend on KITTI raw 0005 went astray (docs/benchmarks.md, 2026-12-01).
+  std::string subpixel = "parabola";
   /// Added to every measured disparity, px (u_right is reported that much smaller): corrects
   /// a rectification whose right principal point is off by this much. 0 = trust the
   /// calibration. Finite.

@@ -184,7 +184,9 @@ FractionErrors ErrorsOverFractions(const StereoMatcherOptions& options) {
 }
 
 TEST(StereoMatcher, SubPixelDisparityHasNoWholePixelPullOnExactShifts) {
-  const FractionErrors lk = ErrorsOverFractions(StereoMatcherOptions{});
+  StereoMatcherOptions align;
+  align.subpixel = "lk";
+  const FractionErrors lk = ErrorsOverFractions(align);
   for (size_t k = 0; k < lk.mean_abs.size(); ++k) {
     EXPECT_LT(lk.mean_abs[k], 0.02) << "fraction " << 0.1 * k;
     EXPECT_LT(std::abs(lk.mean_signed[k]), 0.015) << "fraction " << 0.1 * k;
@@ -232,7 +234,9 @@ std::vector<double> MirrorDisagreement(const StereoMatcherOptions& options, size
 
 TEST(StereoMatcher, MatchingTheMirroredPairGivesTheSameDisparity) {
   size_t tried = 0;
-  const std::vector<double> lk = MirrorDisagreement(StereoMatcherOptions{}, &tried);
+  StereoMatcherOptions align;
+  align.subpixel = "lk";
+  const std::vector<double> lk = MirrorDisagreement(align, &tried);
   ASSERT_GT(lk.size(), 0.9 * tried);
   EXPECT_LT(lk[lk.size() / 2], 0.003);
   EXPECT_LT(lk[lk.size() * 9 / 10], 0.01);
