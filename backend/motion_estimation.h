@@ -45,6 +45,14 @@ struct MotionEstimationOptions {
   bool point_to_point_icp = false;
   /// false: return the shape initialisation without bundle adjustment (ablation, tests).
   bool run_bundle_adjustment = true;
+  /// [ours] Landmarks the shape initialisation found inconsistent with their cluster (an
+  /// observation failed the fusion gate, ShapeInitOptions::fusion_gate_chi2) stay out of the
+  /// bundle adjustment and are re-placed at the mean of their mapped observations after it.
+  /// Why: a car point labelled static is explained best by a point at infinity along its ray;
+  /// in the adjustment such points drift outwards by ~0.3 % of the cost per LM iteration, the
+  /// solve never converges within its iterations, and they drag the camera with them
+  /// (docs/benchmarks.md, "Batch speed").
+  bool hold_out_inconsistent_landmarks = true;
 
   /// Throws ConfigError naming the field that breaks its rule.
   void Check() const;
