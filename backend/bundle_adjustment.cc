@@ -1,6 +1,7 @@
 #include "backend/bundle_adjustment.h"
 
 #include <ceres/ceres.h>
+#include <ceres/product_manifold.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <string>
+#include <utility>
 
 #include "backend/reprojection_error.h"
 #include "core/errors.h"
@@ -37,13 +40,33 @@ RobustKernel ParseRobustKernel(const std::string& text, const std::string& key) 
 }
 
 std::string ToString(SparseSolver solver) {
-  return solver == SparseSolver::kSchur ? "schur" : "normal_cholesky";
+  switch (solver) {
+    case SparseSolver::kNormalCholesky:
+      return "normal_cholesky";
+    case SparseSolver::kSchur:
+      return "schur";
+    case SparseSolver::kIterativeSchur:
+      return "iterative_schur";
+  }
+  return "?";
 }
 
 SparseSolver ParseSparseSolver(const std::string& text, const std::string& key) {
   if (text == "schur") return SparseSolver::kSchur;
   if (text == "normal_cholesky") return SparseSolver::kNormalCholesky;
-  throw ConfigError(key + ": must be one of normal_cholesky, schur, got '" + text + "'");
+  if (text == "iterative_schur") return SparseSolver::kIterativeSchur;
+  throw ConfigError(key + ": must be one of normal_cholesky, schur, iterative_schur, got '" +
+                    text + "'");
+}
+
+std::string ToString(SparseLibrary library) {
+  return library == SparseLibrary::kEigen ? "eigen" : "suite_sparse";
+}
+
+SparseLibrary ParseSparseLibrary(const std::string& text, const std::string& key) {
+  if (text == "suite_sparse") return SparseLibrary::kSuiteSparse;
+  if (text == "eigen") return SparseLibrary::kEigen;
+  throw ConfigError(key + ": must be one of suite_sparse, eigen, got '" + text + "'");
 }
 
 std::string ToString(BaCoupling coupling) {
@@ -96,6 +119,9 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
+  std::string library_text = ToString(sparse_library);
+  reader.Read("sparse_library", &library_text);
+  sparse_library = ParseSparseLibrary(library_text, reader.Where("sparse_library"));
 }
 
 namespace {
@@ -122,25 +148,33 @@ class DcsLoss final : public ceres::LossFunction {
   double phi_;
 };
 
-/// A pose b_from_a as two Ceres blocks: Eigen quaternion (x, y, z, w) and translation.
+/// A pose b_from_a as one Ceres block of 7: Eigen quaternion (x, y, z, w), then translation.
+/// One block, not two [ours, measured]: the Schur elimination and the sparse normal equations
+/// work per pair of parameter blocks a point links, so a point seen in n frames costs ~(2n)²/2
+/// block updates with split blocks and n²/2 with one (docs/benchmarks.md, "Batch speed").
+/// The tangent space (quaternion ⊕ R³) is the same, so are the steps.
 struct PoseBlock {
-  std::array<double, 4> q{0, 0, 0, 1};
-  std::array<double, 3> t{0, 0, 0};
+  std::array<double, 7> x{0, 0, 0, 1, 0, 0, 0};
 
+  double* data() { return x.data(); }
+  const double* data() const { return x.data(); }
   static PoseBlock From(const Pose& pose) {
     PoseBlock b;
     const Eigen::Quaterniond q(pose.linear());
-    b.q = {q.x(), q.y(), q.z(), q.w()};
-    b.t = {pose.translation().x(), pose.translation().y(), pose.translation().z()};
+    const Eigen::Vector3d& t = pose.translation();
+    b.x = {q.x(), q.y(), q.z(), q.w(), t.x(), t.y(), t.z()};
     return b;
   }
   Pose ToPose() const {
     Pose pose = Pose::Identity();
-    pose.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
+    pose.linear() = Eigen::Quaterniond(x[3], x[0], x[1], x[2]).normalized().toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(x[4], x[5], x[6]);
     return pose;
   }
 };
+
+using PoseManifold = ceres::ProductManifold<ceres::EigenQuaternionManifold,
+                                            ceres::EuclideanManifold<3>>;
 
 /// Square root of the information: Lᵀ with Σ⁻¹ = L Lᵀ, so ‖Lᵀe‖² = eᵀΣ⁻¹e.
 Eigen::Matrix3d SqrtInformation(const Eigen::Matrix3d& cov) {
@@ -149,16 +183,16 @@ Eigen::Matrix3d SqrtInformation(const Eigen::Matrix3d& cov) {
 }
 
 /// Whitened stereo reprojection error of a point in body frame b seen from camera c through
-/// one pose cam_from_body (parameters: q, t, point).
+/// one pose cam_from_body (parameters: pose block (q, t), point).
 struct ReprojectionCost {
   ReprojectionCost(const StereoCamera& camera, const Eigen::Vector3d& x,
                    const Eigen::Matrix3d& sqrt_info)
       : camera_(camera), x_(x), sqrt_info_(sqrt_info) {}
 
   template <typename T>
-  bool operator()(const T* q, const T* t, const T* point, T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> rotation(q);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> translation(t);
+  bool operator()(const T* pose, const T* point, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> rotation(pose);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> translation(pose + 4);
     const Eigen::Map<const Eigen::Matrix<T, 3, 1>> p(point);
     const Eigen::Matrix<T, 3, 1> p_in_cam = rotation * p + translation;
     return Residual(p_in_cam, residual);
@@ -175,15 +209,25 @@ struct ReprojectionCost {
 };
 
 /// ReprojectionCost with closed-form Jacobians (backend/reprojection_error.h).
-class AnalyticReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 3> {
+class AnalyticReprojectionCost final : public ceres::SizedCostFunction<3, 7, 3> {
  public:
   explicit AnalyticReprojectionCost(const ReprojectionCost& cost) : cost_(cost) {}
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    return StereoReprojectionWithJacobians(
-        cost_.camera_, cost_.x_, cost_.sqrt_info_, parameters[0], parameters[1], parameters[2],
-        residuals, jacobians ? jacobians[0] : nullptr, jacobians ? jacobians[1] : nullptr,
-        jacobians ? jacobians[2] : nullptr);
+    double* d_pose = jacobians ? jacobians[0] : nullptr;
+    double* d_point = jacobians ? jacobians[1] : nullptr;
+    double d_q[12], d_t[9];
+    if (!StereoReprojectionWithJacobians(cost_.camera_, cost_.x_, cost_.sqrt_info_,
+                                         parameters[0], parameters[0] + 4, parameters[1],
+                                         residuals, d_pose ? d_q : nullptr,
+                                         d_pose ? d_t : nullptr, d_point))
+      return false;
+    if (d_pose)  // row-major 3×7 = [3×4 | 3×3]
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) d_pose[7 * r + c] = d_q[4 * r + c];
+        for (int c = 0; c < 3; ++c) d_pose[7 * r + 4 + c] = d_t[3 * r + c];
+      }
+    return true;
   }
 
  private:
@@ -195,10 +239,9 @@ class AnalyticReprojectionCost final : public ceres::SizedCostFunction<3, 4, 3, 
 struct CoupledReprojectionCost {
   explicit CoupledReprojectionCost(const ReprojectionCost& base) : base_(base) {}
   template <typename T>
-  bool operator()(const T* q_cw, const T* t_cw, const T* q_wq, const T* t_wq, const T* point,
-                  T* residual) const {
-    const Eigen::Map<const Eigen::Quaternion<T>> r_cw(q_cw), r_wq(q_wq);
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr_cw(t_cw), tr_wq(t_wq), p(point);
+  bool operator()(const T* cw, const T* wq, const T* point, T* residual) const {
+    const Eigen::Map<const Eigen::Quaternion<T>> r_cw(cw), r_wq(wq);
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> tr_cw(cw + 4), tr_wq(wq + 4), p(point);
     const Eigen::Matrix<T, 3, 1> p_in_world = r_wq * p + tr_wq;
     return base_.Residual<T>(r_cw * p_in_world + tr_cw, residual);
   }
@@ -208,8 +251,8 @@ struct CoupledReprojectionCost {
 /// Everything one Ceres solve needs that must outlive the Problem.
 class Solve {
  public:
-  Solve(const StereoCamera& camera, const BundleAdjustmentOptions& options)
-      : camera_(camera), options_(options) {
+  Solve(const StereoCamera& camera, const BundleAdjustmentOptions& options, std::string label)
+      : camera_(camera), options_(options), label_(std::move(label)) {
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -231,14 +274,13 @@ class Solve {
   bool AddObservation(const StereoObservation& obs, PoseBlock* cam_from_body, double* point) {
     const ReprojectionCost cost(camera_, obs.x, SqrtInformation(obs.cov));
     Eigen::Vector3d r;
-    if (!cost(cam_from_body->q.data(), cam_from_body->t.data(), point, r.data())) return false;
+    if (!cost(cam_from_body->data(), point, r.data())) return false;
     ceres::CostFunction* function =
         options_.analytic_jacobians
             ? static_cast<ceres::CostFunction*>(new AnalyticReprojectionCost(cost))
-            : new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 4, 3, 3>(
+            : new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 7, 3>(
                   new ReprojectionCost(cost));
-    problem_->AddResidualBlock(function, loss_.get(), cam_from_body->q.data(),
-                               cam_from_body->t.data(), point);
+    problem_->AddResidualBlock(function, loss_.get(), cam_from_body->data(), point);
     AddPose(cam_from_body);
     AddPoint(point);
     return true;
@@ -248,25 +290,20 @@ class Solve {
                              PoseBlock* world_from_cluster, double* point) {
     const CoupledReprojectionCost cost(ReprojectionCost(camera_, obs.x, SqrtInformation(obs.cov)));
     Eigen::Vector3d r;
-    if (!cost(cam_from_world->q.data(), cam_from_world->t.data(), world_from_cluster->q.data(),
-              world_from_cluster->t.data(), point, r.data()))
-      return false;
+    if (!cost(cam_from_world->data(), world_from_cluster->data(), point, r.data())) return false;
     problem_->AddResidualBlock(
-        new ceres::AutoDiffCostFunction<CoupledReprojectionCost, 3, 4, 3, 4, 3, 3>(
+        new ceres::AutoDiffCostFunction<CoupledReprojectionCost, 3, 7, 7, 3>(
             new CoupledReprojectionCost(cost)),
-        loss_.get(), cam_from_world->q.data(), cam_from_world->t.data(),
-        world_from_cluster->q.data(), world_from_cluster->t.data(), point);
+        loss_.get(), cam_from_world->data(), world_from_cluster->data(), point);
     AddPose(cam_from_world);
     AddPose(world_from_cluster);
     AddPoint(point);
     return true;
   }
 
-  bool Has(const PoseBlock& pose) const { return problem_->HasParameterBlock(pose.t.data()); }
+  bool Has(const PoseBlock& pose) const { return problem_->HasParameterBlock(pose.data()); }
   void HoldConstant(PoseBlock* pose) {
-    if (!Has(*pose)) return;
-    problem_->SetParameterBlockConstant(pose->q.data());
-    problem_->SetParameterBlockConstant(pose->t.data());
+    if (Has(*pose)) problem_->SetParameterBlockConstant(pose->data());
   }
 
   /// Runs Levenberg–Marquardt; adds to `summary`.
@@ -278,13 +315,27 @@ class Solve {
     so.num_threads = options_.num_threads;
     so.logging_type = ceres::SILENT;
     so.minimizer_progress_to_stdout = false;
+    const ceres::SparseLinearAlgebraLibraryType library =
+        options_.sparse_library == SparseLibrary::kEigen ? ceres::EIGEN_SPARSE
+                                                         : ceres::SUITE_SPARSE;
     const bool sparse = num_poses_ >= options_.sparse_schur_min_poses &&
-                        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE);
-    so.linear_solver_type = !sparse ? ceres::DENSE_SCHUR
-                            : options_.sparse_solver == SparseSolver::kSchur
-                                ? ceres::SPARSE_SCHUR
-                                : ceres::SPARSE_NORMAL_CHOLESKY;
-    if (sparse) so.sparse_linear_algebra_library_type = ceres::SUITE_SPARSE;
+                        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library);
+    so.linear_solver_type = ceres::DENSE_SCHUR;
+    if (sparse) {
+      switch (options_.sparse_solver) {
+        case SparseSolver::kNormalCholesky:
+          so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+          break;
+        case SparseSolver::kSchur:
+          so.linear_solver_type = ceres::SPARSE_SCHUR;
+          break;
+        case SparseSolver::kIterativeSchur:
+          so.linear_solver_type = ceres::ITERATIVE_SCHUR;
+          so.preconditioner_type = ceres::SCHUR_JACOBI;
+          break;
+      }
+      so.sparse_linear_algebra_library_type = library;
+    }
     // Schur solvers eliminate the points (group 0) first. Sparse normal Cholesky gets no
     // constraint [ours, measured]: CHOLMOD's minimum-degree ordering then eliminates whichever
     // side is cheaper — for a moving cluster of a few landmarks seen in 100–200 frames that is
@@ -299,6 +350,23 @@ class Solve {
     }
     ceres::Solver::Summary s;
     ceres::Solve(so, problem_.get(), &s);
+    auto log = GetLogger("backend");
+    if (log->should_log(spdlog::level::debug)) {
+      log->debug("BA solve {}: {} poses, {} points, {} residuals, {}, {} LM iterations ({} "
+                 "accepted), cost {:.6g} -> {:.6g}, {}, {:.3f} s ({:.3f} s linear solver)",
+                 label_, num_poses_, points_.size(), s.num_residual_blocks,
+                 ceres::LinearSolverTypeToString(s.linear_solver_type_used),
+                 s.num_successful_steps + s.num_unsuccessful_steps, s.num_successful_steps,
+                 s.initial_cost, s.final_cost, ceres::TerminationTypeToString(s.termination_type),
+                 s.total_time_in_seconds, s.linear_solver_time_in_seconds);
+      if (log->should_log(spdlog::level::trace))
+        for (const ceres::IterationSummary& it : s.iterations)
+          log->trace("  {} it {:3d}: cost {:.9g} rel.decrease {:.3g} |g|max {:.3g} |step| {:.3g} "
+                     "radius {:.3g} {}",
+                     label_, it.iteration, it.cost, it.cost > 0 ? it.cost_change / it.cost : 0.0,
+                     it.gradient_max_norm, it.step_norm, it.trust_region_radius,
+                     it.step_is_successful ? "" : "(rejected)");
+    }
     summary->iterations += static_cast<int>(s.iterations.size());
     ++summary->num_solves;
     if (s.termination_type == ceres::FAILURE) {
@@ -309,10 +377,9 @@ class Solve {
 
  private:
   void AddPose(PoseBlock* pose) {
-    if (known_.insert(pose->t.data()).second) {
-      problem_->SetManifold(pose->q.data(), &quaternion_manifold_);
-      pose_blocks_.push_back(pose->q.data());
-      pose_blocks_.push_back(pose->t.data());
+    if (known_.insert(pose->data()).second) {
+      problem_->SetManifold(pose->data(), &pose_manifold_);
+      pose_blocks_.push_back(pose->data());
       ++num_poses_;
     }
   }
@@ -322,7 +389,8 @@ class Solve {
 
   const StereoCamera& camera_;
   const BundleAdjustmentOptions& options_;
-  ceres::EigenQuaternionManifold quaternion_manifold_;
+  std::string label_;  // names the solve in the debug log
+  PoseManifold pose_manifold_;
   std::unique_ptr<ceres::LossFunction> loss_;
   std::unique_ptr<ceres::Problem> problem_;
   std::set<const double*> known_;
@@ -352,8 +420,11 @@ struct ClusterState {
 class Adjuster {
  public:
   Adjuster(const TrackletTable& table, const StereoCamera& camera,
-           const BundleAdjustmentOptions& options, MotionEstimate* estimate)
+           const BundleAdjustmentOptions& options, MotionEstimate* estimate,
+           const std::vector<bool>* held_out)
       : table_(table), camera_(camera), options_(options), est_(*estimate) {
+    if (held_out) held_out_ = *held_out;
+    held_out_.resize(est_.landmark_in_cluster.size(), false);
     const FrameRange range = est_.range;
     for (const Pose& world_from_cam : est_.world_from_cam)
       cam_from_world_.push_back(PoseBlock::From(world_from_cam.inverse()));
@@ -388,14 +459,16 @@ class Adjuster {
   bool Usable(int landmark) const {
     return est_.landmark_cluster[landmark] >= 0 && est_.landmark_in_cluster[landmark].allFinite();
   }
+  /// A landmark that enters the solves.
+  bool Adjusted(int landmark) const { return Usable(landmark) && !held_out_[landmark]; }
 
   /// Step (1): one moving cluster's landmarks and per-frame T^{cq}_t.
   void SolveCluster(ClusterState* cs, BundleAdjustmentSummary* summary) {
-    Solve solve(camera_, options_);
-    ObservationCount counts;
     const int label = cs->motion->cluster;
+    Solve solve(camera_, options_, "cluster " + std::to_string(label));
+    ObservationCount counts;
     for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
-      if (est_.landmark_cluster[i] != label || !Usable(i)) continue;
+      if (est_.landmark_cluster[i] != label || !Adjusted(i)) continue;
       for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
         const int k = cs->frame_index[obs.frame - est_.range.begin];
         if (k < 0) continue;
@@ -417,7 +490,7 @@ class Adjuster {
 
   /// Step (2) of the decoupled scheme: camera poses and static landmarks.
   void SolveStatic(BundleAdjustmentSummary* summary) {
-    Solve solve(camera_, options_);
+    Solve solve(camera_, options_, "static");
     ObservationCount counts;
     AddStatic(&solve, &counts);
     HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
@@ -427,7 +500,7 @@ class Adjuster {
 
   void AddStatic(Solve* solve, ObservationCount* counts) {
     for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
-      if (est_.landmark_cluster[i] != 0 || !Usable(i)) continue;
+      if (est_.landmark_cluster[i] != 0 || !Adjusted(i)) continue;
       for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
         PoseBlock* pose = &cam_from_world_[obs.frame - est_.range.begin];
         if (solve->AddObservation(obs, pose, points_[i].data())) ++(*counts)[pose];
@@ -439,7 +512,7 @@ class Adjuster {
   /// cluster's own SE(3) gauge is left to the Levenberg–Marquardt damping: holding one of its
   /// world poses would make that frame's observations pull on the camera pose.
   void SolveCoupled(BundleAdjustmentSummary* summary) {
-    Solve solve(camera_, options_);
+    Solve solve(camera_, options_, "coupled");
     ObservationCount counts;
     AddStatic(&solve, &counts);
     for (ClusterState& cs : clusters_) {
@@ -451,7 +524,7 @@ class Adjuster {
       }
       const int label = cs.motion->cluster;
       for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
-        if (est_.landmark_cluster[i] != label || !Usable(i)) continue;
+        if (est_.landmark_cluster[i] != label || !Adjusted(i)) continue;
         for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
           const int f = obs.frame - est_.range.begin;
           const int k = cs.frame_index[f];
@@ -490,6 +563,38 @@ class Adjuster {
             est_.world_from_cam[m.frames[k] - est_.range.begin] * m.cam_from_cluster[k];
       }
     }
+    for (size_t i = 0; i < points_.size(); ++i)
+      if (held_out_[i] && Usable(static_cast<int>(i))) PlaceHeldOut(static_cast<int>(i));
+  }
+
+  /// Mean of the landmark's back-projections mapped into its cluster's frame by the refined
+  /// poses; unchanged when none back-projects.
+  void PlaceHeldOut(int landmark) {
+    const int label = est_.landmark_cluster[landmark];
+    const ClusterState* cs = nullptr;
+    if (label > 0) {
+      auto it = cluster_of_label_.find(label);
+      if (it == cluster_of_label_.end()) return;
+      cs = &clusters_[it->second];
+    }
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int count = 0;
+    for (const StereoObservation& obs : table_.ObservationsOf(landmark, est_.range)) {
+      const int f = obs.frame - est_.range.begin;
+      Pose cluster_from_cam;
+      if (cs) {
+        const int k = cs->frame_index[f];
+        if (k < 0) continue;
+        cluster_from_cam = cs->motion->cam_from_cluster[k].inverse();
+      } else {
+        cluster_from_cam = est_.world_from_cam[f];
+      }
+      Eigen::Vector3d p;
+      if (!camera_.BackProject<double>(obs.x, &p)) continue;
+      sum += cluster_from_cam * p;
+      ++count;
+    }
+    if (count > 0) est_.landmark_in_cluster[landmark] = sum / count;
   }
 
   const TrackletTable& table_;
@@ -500,19 +605,20 @@ class Adjuster {
   std::vector<std::array<double, 3>> points_;
   std::vector<ClusterState> clusters_;
   std::map<int, int> cluster_of_label_;
+  std::vector<bool> held_out_;  // [landmark id]
 };
 
 }  // namespace
 
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
-                                     MotionEstimate* estimate) {
+                                     MotionEstimate* estimate, const std::vector<bool>* held_out) {
   CSLAM_CHECK(static_cast<int>(estimate->world_from_cam.size()) == estimate->range.size(),
               "AdjustBundle: world_from_cam must have one pose per frame of the range");
   CSLAM_CHECK(estimate->landmark_cluster.size() == estimate->landmark_in_cluster.size(),
               "AdjustBundle: landmark_cluster and landmark_in_cluster must be parallel");
   const double initial = EvaluateChi2(table, camera, estimate);
-  BundleAdjustmentSummary summary = Adjuster(table, camera, options, estimate).Run();
+  BundleAdjustmentSummary summary = Adjuster(table, camera, options, estimate, held_out).Run();
   summary.initial_chi2 = initial;
   summary.final_chi2 = EvaluateChi2(table, camera, estimate);
   summary.num_residuals = estimate->num_residuals;

@@ -32,9 +32,13 @@ struct BundleAdjustmentSummary {
 /// Refines `estimate` in place (see the header comment for the frames and the gauge).
 /// Precondition: `estimate` is initialised for `table` over estimate->range (landmark_cluster
 /// sized to the table, clusters listing every frame where their landmarks are observed).
+/// `held_out` (may be null; [landmark id], shorter = not held): landmarks kept out of every
+/// solve — they keep their cluster, and afterwards are placed at the mean of their
+/// back-projections through the refined poses of their cluster.
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
-                                     MotionEstimate* estimate);
+                                     MotionEstimate* estimate,
+                                     const std::vector<bool>* held_out = nullptr);
 
 /// Σ squared Mahalanobis reprojection error of `estimate` (no robust kernel) over every
 /// observation in the range of a landmark with a cluster and a finite position; also writes

@@ -12,12 +12,20 @@ enum class RobustKernel { kNone, kHuber, kDcs };
 /// How cluster and camera unknowns are split between solves (paper Table 5).
 enum class BaCoupling { kDecoupled, kSemiCoupled, kFullyCoupled };
 
-/// The SuiteSparse factorisation of large solves.
-enum class SparseSolver { kNormalCholesky, kSchur };
+/// The linear solver of large solves: Ceres SPARSE_NORMAL_CHOLESKY, SPARSE_SCHUR, or
+/// ITERATIVE_SCHUR (conjugate gradients on the reduced camera system, SCHUR_JACOBI
+/// preconditioner).
+enum class SparseSolver { kNormalCholesky, kSchur, kIterativeSchur };
+/// The sparse factorisation library of the direct sparse solvers.
+enum class SparseLibrary { kSuiteSparse, kEigen };
 
-/// "normal_cholesky" / "schur"; ParseSparseSolver throws ConfigError naming `key` otherwise.
+/// "normal_cholesky" / "schur" / "iterative_schur"; ParseSparseSolver throws ConfigError
+/// naming `key` otherwise.
 std::string ToString(SparseSolver solver);
 SparseSolver ParseSparseSolver(const std::string& text, const std::string& key);
+/// "suite_sparse" / "eigen".
+std::string ToString(SparseLibrary library);
+SparseLibrary ParseSparseLibrary(const std::string& text, const std::string& key);
 /// "none" / "huber" / "dcs"; ParseRobustKernel throws ConfigError naming `key` otherwise.
 std::string ToString(RobustKernel kernel);
 RobustKernel ParseRobustKernel(const std::string& text, const std::string& key);
@@ -53,6 +61,9 @@ struct BundleAdjustmentOptions {
   /// locking its cells than solving (2.0–2.5× slower on synthetic indoor and outdoor chunks,
   /// same result; docs/benchmarks.md).
   SparseSolver sparse_solver = SparseSolver::kNormalCholesky;
+  /// Factorisation library of normal_cholesky / schur [SuiteSparse's CHOLMOD; eigen = Eigen's
+  /// simplicial LDLᵀ, no BLAS].
+  SparseLibrary sparse_library = SparseLibrary::kSuiteSparse;
   /// Sparse normal Cholesky: constrain the elimination order to all points before all poses
   /// (the behaviour before 2026-11-23). Off [ours, measured]: the minimum-degree ordering picks
   /// the cheaper side itself — 5–10× faster on small moving clusters seen in many frames, same

@@ -39,6 +39,7 @@ void MotionEstimationOptions::Load(OptionsReader& reader) {
   ba_reader.Finish();
   reader.Read("point_to_point_icp", &point_to_point_icp);
   reader.Read("run_bundle_adjustment", &run_bundle_adjustment);
+  reader.Read("hold_out_inconsistent_landmarks", &hold_out_inconsistent_landmarks);
 }
 
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
@@ -67,6 +68,8 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
   const bool caching =
       cache && options.bundle_adjustment.coupling == BaCoupling::kDecoupled;
   const bool cache_usable = caching && cache->range == range && cache->options == options;
+  std::vector<bool> held_out(n, false);  // [landmark id], see hold_out_inconsistent_landmarks
+  int num_held_out = 0;
   std::vector<MovingClusterCache::Entry> kept;  // reused entries, carried to the next call
   std::vector<ClusterMotion> reused;
   for (const auto& [label, landmarks] : members) {
@@ -119,6 +122,10 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
       if (!shape.point_in_cluster[k].allFinite()) continue;
       est.landmark_cluster[landmarks[k]] = label;
       est.landmark_in_cluster[landmarks[k]] = shape.point_in_cluster[k];
+      if (options.hold_out_inconsistent_landmarks && !shape.consistent[k]) {
+        held_out[landmarks[k]] = true;
+        ++num_held_out;
+      }
     }
     if (shape.num_unregistered > 0)
       GetLogger("backend")->debug("cluster {}: {} of {} frames not registered (< {} points)", label,
@@ -154,7 +161,11 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
 
   // Reused clusters stay out of the adjustment (no ClusterMotion there, so no solve touches
   // their landmarks) and join before the final χ².
-  if (options.run_bundle_adjustment) AdjustBundle(table, camera, options.bundle_adjustment, &est);
+  if (num_held_out > 0)
+    GetLogger("backend")->debug("{} landmarks inconsistent with their cluster held out of the "
+                                "bundle adjustment", num_held_out);
+  if (options.run_bundle_adjustment)
+    AdjustBundle(table, camera, options.bundle_adjustment, &est, &held_out);
   if (!reused.empty()) {
     for (ClusterMotion& m : reused) {
       for (size_t k = 0; k < m.frames.size(); ++k)

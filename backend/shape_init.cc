@@ -221,6 +221,7 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
   const int n = static_cast<int>(shape.landmarks.size());
   const Eigen::Vector3d nan = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   shape.point_in_cluster.assign(n, nan);
+  shape.consistent.assign(n, true);
   if (range.size() <= 0 || n == 0) return shape;
 
   // Per frame of the range: the cluster's observations that back-project (positive disparity).
@@ -361,8 +362,11 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
       models[fp.local].mean = shape.cluster_from_cam[k] * fp.p_in_cam;
     }
   }
-  for (int local = 0; local < n; ++local)
+  shape.consistent.assign(n, true);
+  for (int local = 0; local < n; ++local) {
     if (models[local].initialised) shape.point_in_cluster[local] = models[local].mean;
+    shape.consistent[local] = models[local].rigid;
+  }
   return shape;
 }
 

@@ -64,6 +64,10 @@ struct ShapeInitOptions {
 struct ClusterShape {
   std::vector<int> landmarks;                     ///< ascending landmark ids (input order kept)
   std::vector<Eigen::Vector3d> point_in_cluster;  ///< X̂^{q,i}, parallel to landmarks
+  /// Parallel to landmarks: false once one of the landmark's observations failed the fusion
+  /// gate (fusion_gate_chi2) — it does not move with the cluster; its point is then the mean
+  /// of its mapped observations. Always true with the gate off or point_to_point_icp.
+  std::vector<bool> consistent;
   std::vector<int> frames;                        ///< ascending frames where any landmark is seen
   std::vector<Pose> cluster_from_cam;             ///< T^{qc}_t, parallel to frames
   std::vector<bool> registered;                   ///< false: pose carried from a neighbour frame

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
+#include <vector>
+
 #include "core/errors.h"
 #include "tests/backend/synthetic_bodies.h"
 #include "tests/support/matchers.h"
@@ -111,6 +115,96 @@ TEST(BundleAdjustment, CouplingModesAgreeOnACleanScene) {
   }
 }
 
+/// Largest distance between the two estimates' world positions of the same landmark at any
+/// frame of its cluster (a moving cluster's own frame is a gauge, its world points are not).
+double MaxWorldPointDifference(const MotionEstimate& a, const MotionEstimate& b) {
+  double max_err = 0.0;
+  for (size_t i = 0; i < a.landmark_cluster.size(); ++i) {
+    const int label = a.landmark_cluster[i];
+    if (label < 0 || !a.landmark_in_cluster[i].allFinite()) continue;
+    if (label == 0) {
+      max_err = std::max(max_err, (a.landmark_in_cluster[i] - b.landmark_in_cluster[i]).norm());
+      continue;
+    }
+    const ClusterMotion* ma = a.FindCluster(label);
+    const ClusterMotion* mb = b.FindCluster(label);
+    if (!ma || !mb || ma->frames != mb->frames) return std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < ma->frames.size(); ++k)
+      max_err = std::max(max_err, (ma->world_from_cluster[k] * a.landmark_in_cluster[i] -
+                                   mb->world_from_cluster[k] * b.landmark_in_cluster[i])
+                                      .norm());
+  }
+  return max_err;
+}
+
+// Every linear solver / library / Jacobian choice minimises the same cost: run to
+// convergence from the same start they reach the reference's minimum (SuiteSparse normal
+// Cholesky, closed-form Jacobians) — to rounding for the direct solvers, to the inexact
+// steps' tolerance for conjugate gradients.
+TEST(BundleAdjustment, SolverChoicesReachTheReferenceSolution) {
+  BodySceneSpec spec;
+  spec.num_static = 150;
+  spec.points_per_body = 30;
+  const BodyScene scene = MakeBodyScene(spec);
+  const MotionEstimate initial = Initialise(scene);
+  BundleAdjustmentOptions reference;
+  reference.max_iterations = 200;
+  reference.function_tolerance = 1e-12;
+  reference.sparse_schur_min_poses = 0;  // every solve sparse, also the moving clusters'
+  MotionEstimate ref = initial;
+  const BundleAdjustmentSummary ref_summary =
+      AdjustBundle(scene.table, scene.camera, reference, &ref);
+  ASSERT_TRUE(ref_summary.usable);
+  ASSERT_LT(ref_summary.final_chi2, 0.5 * ref_summary.initial_chi2);
+
+  struct Variant {
+    const char* name;
+    BundleAdjustmentOptions options;
+    double pose_tol_m, rot_tol_rad, point_tol_m, chi2_rel;
+  };
+  std::vector<Variant> variants;
+  auto add = [&](const char* name, auto&& change, double pose_tol_m, double rot_tol_rad,
+                 double point_tol_m, double chi2_rel) {
+    BundleAdjustmentOptions o = reference;
+    change(o);
+    variants.push_back({name, o, pose_tol_m, rot_tol_rad, point_tol_m, chi2_rel});
+  };
+  add("dense_schur", [](BundleAdjustmentOptions& o) { o.sparse_schur_min_poses = 1000; }, 1e-6,
+      1e-7, 1e-5, 1e-8);
+  add("sparse_schur", [](BundleAdjustmentOptions& o) { o.sparse_solver = SparseSolver::kSchur; },
+      1e-6, 1e-7, 1e-5, 1e-8);
+  add("eigen_normal_cholesky",
+      [](BundleAdjustmentOptions& o) { o.sparse_library = SparseLibrary::kEigen; }, 1e-6, 1e-7,
+      1e-5, 1e-8);
+  add("eigen_schur",
+      [](BundleAdjustmentOptions& o) {
+        o.sparse_library = SparseLibrary::kEigen;
+        o.sparse_solver = SparseSolver::kSchur;
+      },
+      1e-6, 1e-7, 1e-5, 1e-8);
+  add("autodiff", [](BundleAdjustmentOptions& o) { o.analytic_jacobians = false; }, 1e-6, 1e-7,
+      1e-5, 1e-8);
+  // Conjugate gradients stop at a relative residual, so the minimum is reached to ~1e-4.
+  add("iterative_schur",
+      [](BundleAdjustmentOptions& o) { o.sparse_solver = SparseSolver::kIterativeSchur; }, 2e-4,
+      2e-5, 2e-3, 1e-4);
+  for (const Variant& v : variants) {
+    MotionEstimate est = initial;
+    const BundleAdjustmentSummary s = AdjustBundle(scene.table, scene.camera, v.options, &est);
+    EXPECT_TRUE(s.usable) << v.name;
+    EXPECT_NEAR(s.final_chi2, ref_summary.final_chi2, v.chi2_rel * ref_summary.final_chi2)
+        << v.name;
+    for (int f = 0; f < spec.num_frames; ++f)
+      EXPECT_TRUE(cslam::testing::PoseNear(est.world_from_cam[f], ref.world_from_cam[f],
+                                           v.rot_tol_rad, v.pose_tol_m))
+          << v.name << " frame " << f;
+    const double point_diff = MaxWorldPointDifference(est, ref);
+    std::printf("%s: chi2 %.6f (reference %.6f), landmarks within %.2e m\n", v.name,
+                s.final_chi2, ref_summary.final_chi2, point_diff);
+    EXPECT_LT(point_diff, v.point_tol_m) << v.name;
+  }
+}
+
 TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   EXPECT_EQ(ParseRobustKernel("dcs", "k"), RobustKernel::kDcs);
   EXPECT_EQ(ParseBaCoupling(ToString(BaCoupling::kSemiCoupled), "k"), BaCoupling::kSemiCoupled);
@@ -123,6 +217,18 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   EXPECT_EQ(o.coupling, BaCoupling::kFullyCoupled);
   EXPECT_EQ(o.robust_kernel, RobustKernel::kNone);
   EXPECT_EQ(o.max_iterations, 7);
+  EXPECT_EQ(ParseSparseSolver(ToString(SparseSolver::kIterativeSchur), "k"),
+            SparseSolver::kIterativeSchur);
+  EXPECT_EQ(ParseSparseLibrary(ToString(SparseLibrary::kEigen), "k"), SparseLibrary::kEigen);
+  EXPECT_THROW(ParseSparseSolver("cgnr", "k"), ConfigError);
+  EXPECT_THROW(ParseSparseLibrary("cxsparse", "k"), ConfigError);
+  auto reader2 = OptionsReader::FromString(
+      "sparse_solver: iterative_schur\nsparse_library: eigen\n", "t");
+  BundleAdjustmentOptions o2;
+  o2.Load(reader2);
+  reader2.Finish();
+  EXPECT_EQ(o2.sparse_solver, SparseSolver::kIterativeSchur);
+  EXPECT_EQ(o2.sparse_library, SparseLibrary::kEigen);
   o.num_threads = 0;
   EXPECT_THROW(o.Check(), ConfigError);
 }

@@ -179,6 +179,46 @@ TEST(EstimateMotions, ProgressiveDcsSplitsOffMovingPoints) {
   EXPECT_LE(static_cast<int>(r.iterations.size()), ProgressiveDcsOptions{}.max_passes);
 }
 
+// A moving body labelled static: the shape initialisation's fusion gate refuses its points,
+// and held out of the adjustment they no longer pull the camera — which then stays closer to
+// the truth than when they are adjusted as static points. Static points are rarely refused.
+TEST(EstimateMotions, HoldingOutInconsistentLandmarksProtectsTheCamera) {
+  BodySceneSpec spec = NoisyMultiBody();
+  spec.num_moving = 1;
+  spec.num_static = 250;
+  spec.points_per_body = 70;
+  spec.pixel_sigma = 1.0;
+  const BodyScene scene = MakeBodyScene(spec);
+  const FrameRange range{0, scene.table.num_frames()};
+  const std::vector<int> all_static(scene.labels.size(), 0);
+  MotionEstimationOptions o;
+  const MotionEstimate adjusted =
+      EstimateMotions(scene.table, scene.camera, range, all_static, o);
+  o.hold_out_inconsistent_landmarks = true;
+  const MotionEstimate held = EstimateMotions(scene.table, scene.camera, range, all_static, o);
+  const double ate_adjusted = Ate(adjusted.world_from_cam, scene.world_from_cam);
+  const double ate_held = Ate(held.world_from_cam, scene.world_from_cam);
+  std::printf("camera ATE with a body labelled static: adjusted %.4f m, held out %.4f m\n",
+              ate_adjusted, ate_held);
+  // Measured 0.29 m adjusted, 0.009 m held out (true labels: 0.002 m); 0.02 m is the bound
+  // the true labels meet in TrueLabelsGiveAnAccurateCameraWhileFullBaIsBiased.
+  EXPECT_LT(ate_held, 0.1 * ate_adjusted);
+  EXPECT_LT(ate_held, 0.02);
+  // Every landmark keeps its label and a position.
+  for (size_t i = 0; i < all_static.size(); ++i) {
+    EXPECT_EQ(held.landmark_cluster[i], adjusted.landmark_cluster[i]) << i;
+    if (held.landmark_cluster[i] >= 0) EXPECT_TRUE(held.landmark_in_cluster[i].allFinite()) << i;
+  }
+
+  // Without the gate nothing is inconsistent: the option changes nothing.
+  MotionEstimationOptions no_gate;
+  no_gate.shape_init.fusion_gate_chi2 = 0;
+  const MotionEstimate a = EstimateMotions(scene.table, scene.camera, range, all_static, no_gate);
+  no_gate.hold_out_inconsistent_landmarks = true;
+  const MotionEstimate b = EstimateMotions(scene.table, scene.camera, range, all_static, no_gate);
+  EXPECT_EQ(a.chi2, b.chi2);
+}
+
 TEST(EstimateMotions, PointToPointSwitchReachesTheShapeInitialisation) {
   BodySceneSpec spec;
   spec.outdoor = true;
