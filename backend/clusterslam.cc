@@ -136,8 +136,9 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
                                     FrameRange range, const std::vector<int>& labels,
                                     const MotionEstimate& estimate,
                                     const ClusterSlamOptions& options,
-                                    IterationDiagnostics* diag) {
-  const ModelAssignment a = AssignToMotionModels(raw, labels, estimate, options.assignment);
+                                    IterationDiagnostics* diag, std::vector<int>* reclusterings) {
+  const ModelAssignment a =
+      AssignToMotionModels(raw, labels, estimate, options.assignment, reclusterings);
   std::vector<int> next = a.labels;
   diag->reassigned = a.reassigned;
   diag->outliers = static_cast<int>(a.outliers.size());
@@ -191,6 +192,7 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
   const PointTracks raw = BackProjectTracks(table, camera, range);
   PointTracks tracks = raw;
   std::vector<int> labels;
+  std::vector<int> reclusterings(raw.size(), 0);  // per landmark, over the loop
   bool adjusted = false;  // does result.estimate include the bundle adjustment?
   for (int k = 1; k <= opts.max_iterations; ++k) {
     IterationDiagnostics diag;
@@ -199,7 +201,8 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
     ConsensusSummary consensus;
     const bool assign = opts.assignment.enabled && !labels.empty();
     std::vector<int> next =
-        assign ? AssignAndRecluster(table, raw, range, labels, result.estimate, opts, &diag)
+        assign ? AssignAndRecluster(table, raw, range, labels, result.estimate, opts, &diag,
+                                    &reclusterings)
                : ClusterLandmarks(table, tracks, range, opts, labels.empty() ? nullptr : &labels,
                                   &consensus);
     diag.clustering_ms = timer.ElapsedMs();
