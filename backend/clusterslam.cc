@@ -208,7 +208,12 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
     diag.clustering_ms = timer.ElapsedMs();
     diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
     diag.vi_to_previous = labels.empty() ? 0.0 : LabellingVariation(labels, next);
-    const bool stable = !labels.empty() && diag.vi_to_previous <= opts.convergence_vi;
+    // A labelling with fewer clusters is a structural change however few landmarks it moves
+    // (a small cluster dissolved or merged): estimate it.
+    const int previous_clusters =
+        labels.empty() ? 0 : *std::max_element(labels.begin(), labels.end()) + 1;
+    const bool stable = !labels.empty() && diag.vi_to_previous <= opts.convergence_vi &&
+                        diag.num_clusters >= previous_clusters;
     if (stable) {
       // (Nearly) the partition we already have an estimate for: keep it.
       diag.chi2 = result.estimate.chi2;
