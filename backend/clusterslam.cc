@@ -136,8 +136,9 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
                                     FrameRange range, const std::vector<int>& labels,
                                     const MotionEstimate& estimate,
                                     const ClusterSlamOptions& options,
-                                    IterationDiagnostics* diag) {
-  const ModelAssignment a = AssignToMotionModels(raw, labels, estimate, options.assignment);
+                                    IterationDiagnostics* diag, std::vector<int>* reclusterings) {
+  const ModelAssignment a =
+      AssignToMotionModels(raw, labels, estimate, options.assignment, reclusterings);
   std::vector<int> next = a.labels;
   diag->reassigned = a.reassigned;
   diag->outliers = static_cast<int>(a.outliers.size());
@@ -191,6 +192,7 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
   const PointTracks raw = BackProjectTracks(table, camera, range);
   PointTracks tracks = raw;
   std::vector<int> labels;
+  std::vector<int> reclusterings(raw.size(), 0);  // per landmark, over the loop
   bool adjusted = false;  // does result.estimate include the bundle adjustment?
   for (int k = 1; k <= opts.max_iterations; ++k) {
     IterationDiagnostics diag;
@@ -199,13 +201,19 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
     ConsensusSummary consensus;
     const bool assign = opts.assignment.enabled && !labels.empty();
     std::vector<int> next =
-        assign ? AssignAndRecluster(table, raw, range, labels, result.estimate, opts, &diag)
+        assign ? AssignAndRecluster(table, raw, range, labels, result.estimate, opts, &diag,
+                                    &reclusterings)
                : ClusterLandmarks(table, tracks, range, opts, labels.empty() ? nullptr : &labels,
                                   &consensus);
     diag.clustering_ms = timer.ElapsedMs();
     diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
     diag.vi_to_previous = labels.empty() ? 0.0 : LabellingVariation(labels, next);
-    const bool stable = !labels.empty() && diag.vi_to_previous <= opts.convergence_vi;
+    // A labelling with fewer clusters is a structural change however few landmarks it moves
+    // (a small cluster dissolved or merged): estimate it.
+    const int previous_clusters =
+        labels.empty() ? 0 : *std::max_element(labels.begin(), labels.end()) + 1;
+    const bool stable = !labels.empty() && diag.vi_to_previous <= opts.convergence_vi &&
+                        diag.num_clusters >= previous_clusters;
     if (stable) {
       // (Nearly) the partition we already have an estimate for: keep it.
       diag.chi2 = result.estimate.chi2;

@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 
+#include "core/logging.h"
+
 namespace cslam {
 
 void ModelAssignmentOptions::Check() const {
@@ -24,6 +26,21 @@ void ModelAssignmentOptions::Check() const {
               "must be >= 0", outlier_alpha);
   CheckOption(min_outlier_cluster >= 1, "model_assignment.min_outlier_cluster", "must be >= 1",
               min_outlier_cluster);
+  CheckOption(max_dropped_samples >= 0, "model_assignment.max_dropped_samples", "must be >= 0",
+              max_dropped_samples);
+  CheckOption(std::isfinite(sample_gate_chi2) && sample_gate_chi2 > 0,
+              "model_assignment.sample_gate_chi2", "must be a chi-square > 0", sample_gate_chi2);
+  CheckOption(min_own_fit_fraction >= 0 && min_own_fit_fraction <= 1,
+              "model_assignment.min_own_fit_fraction", "must be in [0, 1]", min_own_fit_fraction);
+  CheckOption(core_cluster_landmarks >= 0, "model_assignment.core_cluster_landmarks",
+              "must be >= 0", core_cluster_landmarks);
+  CheckOption(min_cluster_landmarks >= 0, "model_assignment.min_cluster_landmarks", "must be >= 0",
+              min_cluster_landmarks);
+  CheckOption(max_reclusterings >= 1, "model_assignment.max_reclusterings", "must be >= 1",
+              max_reclusterings);
+  CheckOption(std::isfinite(min_relative_motion) && min_relative_motion >= 0,
+              "model_assignment.min_relative_motion", "must be >= 0 (RMS / mean range)",
+              min_relative_motion);
 }
 
 void ModelAssignmentOptions::Load(OptionsReader& reader) {
@@ -36,6 +53,13 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("merge_slack", &merge_slack);
   reader.Read("outlier_alpha", &outlier_alpha);
   reader.Read("min_outlier_cluster", &min_outlier_cluster);
+  reader.Read("max_dropped_samples", &max_dropped_samples);
+  reader.Read("sample_gate_chi2", &sample_gate_chi2);
+  reader.Read("min_cluster_landmarks", &min_cluster_landmarks);
+  reader.Read("min_own_fit_fraction", &min_own_fit_fraction);
+  reader.Read("core_cluster_landmarks", &core_cluster_landmarks);
+  reader.Read("min_relative_motion", &min_relative_motion);
+  reader.Read("max_reclusterings", &max_reclusterings);
 }
 
 namespace {
@@ -88,11 +112,14 @@ std::vector<Model> ModelsOf(const MotionEstimate& estimate) {
 }
 
 // `info` = the samples' camera-frame information matrices Σ⁻¹ (precomputed per landmark).
+// Up to `max_dropped` samples whose χ² against the mean exceeds `gate` are left out, worst
+// first, the mean re-estimated each time: a track is judged on what most of it says.
 double CostUnder(const PointTrack& track, const std::vector<Eigen::Matrix3d>& info,
-                 const Model& model, double min_coverage) {
+                 const Model& model, double min_coverage, int max_dropped, double gate) {
   const auto& samples = track.samples;
   thread_local std::vector<Eigen::Vector3d> y;
   thread_local std::vector<Eigen::Matrix3d> w;
+  thread_local std::vector<char> kept;
   y.clear();
   w.clear();
   Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
@@ -108,10 +135,28 @@ double CostUnder(const PointTrack& track, const std::vector<Eigen::Matrix3d>& in
   }
   const int n = static_cast<int>(y.size());
   if (n < kMinSamples || n < min_coverage * static_cast<double>(samples.size())) return -1.0;
-  const Eigen::Vector3d mean = a.ldlt().solve(b);
+  kept.assign(n, 1);
+  int used = n;
+  Eigen::Vector3d mean = a.ldlt().solve(b);
   double chi2 = 0.0;
-  for (int k = 0; k < n; ++k) chi2 += (y[k] - mean).dot(w[k] * (y[k] - mean));
-  const double cost = chi2 / (3.0 * n - 3.0);
+  for (int dropped = 0;; ++dropped) {
+    chi2 = 0.0;
+    int worst = -1;
+    double worst_chi2 = gate;
+    for (int k = 0; k < n; ++k) {
+      if (!kept[k]) continue;
+      const double c = (y[k] - mean).dot(w[k] * (y[k] - mean));
+      chi2 += c;
+      if (c > worst_chi2) worst_chi2 = c, worst = k;
+    }
+    if (worst < 0 || dropped >= max_dropped || used <= kMinSamples) break;
+    kept[worst] = 0;
+    --used;
+    a -= w[worst];
+    b -= w[worst] * y[worst];
+    mean = a.ldlt().solve(b);
+  }
+  const double cost = chi2 / (3.0 * used - 3.0);
   return std::isfinite(cost) ? cost : -1.0;
 }
 
@@ -125,20 +170,105 @@ std::vector<Eigen::Matrix3d> Informations(const PointTrack& track) {
 }  // namespace
 
 double ModelCost(const PointTrack& track, const MotionEstimate& estimate, int label,
-                 double min_coverage) {
+                 double min_coverage, int max_dropped, double gate_chi2) {
   for (const Model& m : ModelsOf(estimate))
-    if (m.label == label) return CostUnder(track, Informations(track), m, min_coverage);
+    if (m.label == label)
+      return CostUnder(track, Informations(track), m, min_coverage, max_dropped, gate_chi2);
   return -1.0;
+}
+
+double RelativeMotion(const MotionEstimate& estimate, const std::vector<int>& labels, int label) {
+  const ClusterMotion* motion = estimate.FindCluster(label);
+  if (!motion || motion->frames.empty()) return -1.0;
+  double squared = 0.0, range = 0.0;
+  long long samples = 0;
+  const size_t n = std::min(labels.size(), estimate.landmark_in_cluster.size());
+  for (size_t l = 0; l < n; ++l) {
+    if (labels[l] != label || !estimate.landmark_in_cluster[l].allFinite()) continue;
+    const Eigen::Vector3d& x = estimate.landmark_in_cluster[l];
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Pose& p : motion->world_from_cluster) mean += p * x;
+    mean /= static_cast<double>(motion->frames.size());
+    for (size_t k = 0; k < motion->frames.size(); ++k) {
+      squared += (motion->world_from_cluster[k] * x - mean).squaredNorm();
+      range += (motion->cam_from_cluster[k] * x).norm();
+      ++samples;
+    }
+  }
+  if (samples == 0 || !(range > 0)) return -1.0;
+  const double rel = std::sqrt(squared / samples) / (range / samples);
+  return std::isfinite(rel) ? rel : -1.0;
 }
 
 ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vector<int>& labels,
                                      const MotionEstimate& estimate,
-                                     const ModelAssignmentOptions& options) {
+                                     const ModelAssignmentOptions& options,
+                                     std::vector<int>* reclusterings) {
   ModelAssignment out;
   out.labels = labels;
   out.labels.resize(tracks.size(), -1);
   const std::vector<Model> models = ModelsOf(estimate);
   if (models.empty()) return out;
+  const int num_models = static_cast<int>(models.size());
+  const int num_landmarks = static_cast<int>(tracks.size());
+  auto label_of = [&](int l) { return l < static_cast<int>(labels.size()) ? labels[l] : -1; };
+
+  // Costs of every testable landmark under every model (-1: not covered).
+  std::vector<double> cost(static_cast<size_t>(num_landmarks) * num_models, -1.0);
+  auto cost_at = [&](int l, int m) -> double& { return cost[static_cast<size_t>(l) * num_models + m]; };
+  std::vector<char> testable(num_landmarks, 0);
+  std::map<int, int> model_index;
+  for (int m = 0; m < num_models; ++m) model_index[models[m].label] = m;
+  for (int l = 0; l < num_landmarks; ++l) {
+    if (static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
+    testable[l] = 1;
+    const std::vector<Eigen::Matrix3d> info = Informations(tracks[l]);
+    for (int m = 0; m < num_models; ++m)
+      cost_at(l, m) = CostUnder(tracks[l], info, models[m], options.min_coverage,
+                                options.max_dropped_samples, options.sample_gate_chi2);
+  }
+
+  // Clusters that have not earned their existence (see the header).
+  std::map<int, int> own_covered, own_fits;
+  for (int l = 0; l < num_landmarks; ++l) {
+    const int label = label_of(l);
+    if (!testable[l] || label < 1) continue;
+    const auto it = model_index.find(label);
+    if (it == model_index.end()) continue;
+    const double c = cost_at(l, it->second);
+    if (c < 0) continue;
+    ++own_covered[label];
+    own_fits[label] += c <= options.fit_threshold;
+  }
+  std::vector<char> dissolved(num_models, 0);
+  for (int m = 0; m < num_models; ++m) {
+    const int label = models[m].label;
+    if (label == 0) continue;
+    const int covered = own_covered[label], fits = own_fits[label];
+    // A big core of fitting landmarks stands on its own (the rest of the cluster is another
+    // body's and is re-clustered); a small cluster must also be consistent.
+    bool dissolve = fits < options.min_cluster_landmarks ||
+                    (fits < options.core_cluster_landmarks &&
+                     fits < options.min_own_fit_fraction * static_cast<double>(covered));
+    double rel = -1.0;
+    if (!dissolve && options.min_relative_motion > 0) {
+      rel = RelativeMotion(estimate, labels, label);
+      dissolve = rel >= 0 && rel < options.min_relative_motion;
+    }
+    if (!dissolve) {
+      GetLogger("backend")->debug("model assignment: cluster {} kept ({} of {} landmarks fit its "
+                                  "motion, relative motion {:.4f})", label, fits, covered, rel);
+      continue;
+    }
+    dissolved[m] = 1;
+    ++out.dissolved;
+    GetLogger("backend")->debug("model assignment: cluster {} dissolved ({} of {} landmarks fit "
+                                "its motion, relative motion {:.4f})",
+                                label, fits, covered, rel);
+  }
+  std::map<int, bool> is_dissolved;
+  for (int m = 0; m < num_models; ++m)
+    if (dissolved[m]) is_dissolved[models[m].label] = true;
 
   // Per-cluster statistics for the merge test: own cost, and cost/fit under every other model.
   struct Under {
@@ -146,36 +276,51 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
     int fits = 0;
     double sum = 0.0;
   };
-  std::map<int, int> members;           // landmarks with >= 4 samples per label
+  std::map<int, int> members;           // landmarks with >= 4 samples per surviving label
   std::map<int, Under> own;             // under the cluster's own model
   std::map<int, std::map<int, Under>> other;
 
-  std::vector<double> cost(models.size());
-  for (int l = 0; l < static_cast<int>(tracks.size()); ++l) {
-    if (static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
-    const int label = l < static_cast<int>(labels.size()) ? labels[l] : -1;
-    const std::vector<Eigen::Matrix3d> info = Informations(tracks[l]);
+  for (int l = 0; l < num_landmarks; ++l) {
+    const int input = label_of(l);
+    const bool from_dissolved = input >= 1 && is_dissolved.count(input);
+    if (!testable[l]) {
+      if (from_dissolved) out.labels[l] = -1;
+      continue;
+    }
+    const int label = from_dissolved ? -1 : input;  // a dissolved cluster has no statistics
     int best = -1;
     double best_score = std::numeric_limits<double>::infinity(), best_cost = 0.0;
-    for (size_t m = 0; m < models.size(); ++m) {
-      cost[m] = CostUnder(tracks[l], info, models[m], options.min_coverage);
-      if (cost[m] < 0) continue;
-      const double score = cost[m] + (models[m].label != 0 ? options.static_margin : 0.0);
-      if (score < best_score) best_score = score, best = models[m].label, best_cost = cost[m];
+    for (int m = 0; m < num_models; ++m) {
+      const double c = cost_at(l, m);
+      if (c < 0 || dissolved[m]) continue;
+      const double score = c + (models[m].label != 0 ? options.static_margin : 0.0);
+      if (score < best_score) best_score = score, best = models[m].label, best_cost = c;
       if (label < 0) continue;
       Under& u = models[m].label == label ? own[label] : other[label][models[m].label];
       ++u.covered;
-      u.sum += cost[m];
-      if (cost[m] <= options.fit_threshold) ++u.fits;
+      u.sum += c;
+      if (c <= options.fit_threshold) ++u.fits;
     }
     if (label >= 0) ++members[label];
-    if (best < 0) continue;  // no model covers the track: keep what it had
-    if (best_cost > options.fit_threshold) {
-      out.outliers.push_back(l);
-      out.labels[l] = -1;
+    if (best < 0) {  // no model covers the track: keep what it had
+      if (from_dissolved) out.labels[l] = -1;
       continue;
     }
-    if (best != label) ++out.reassigned;
+    if (best_cost > options.fit_threshold) {
+      out.labels[l] = -1;
+      // Re-clustered, unless it was already handed out max_reclusterings times: then every
+      // group it was put in was dissolved, and re-clustering it again would rebuild the group.
+      int* times = reclusterings && l < static_cast<int>(reclusterings->size())
+                       ? &(*reclusterings)[l] : nullptr;
+      if (times && *times >= options.max_reclusterings) {
+        ++out.unexplained;
+      } else {
+        out.outliers.push_back(l);
+        if (times) ++*times;
+      }
+      continue;
+    }
+    if (best != input) ++out.reassigned;
     out.labels[l] = best;
   }
 

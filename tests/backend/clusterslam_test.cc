@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <random>
+
 #include "backend/labelling.h"
 #include "backend/point_tracks.h"
 #include "core/errors.h"
@@ -98,6 +102,48 @@ TEST(ClusterSlam, RefinedPositionsRecoverWhatTheFirstIterationMisses) {
     EXPECT_EQ(raw.iterations.size(), 2u);
     EXPECT_EQ(LabellingVariation(raw.estimate.landmark_cluster, first), 0.0);
   }
+}
+
+// A tenth of the background's tracks drift through the image, each its own way (KLT on an
+// occlusion boundary or foliage): they fit neither the static world nor any rigid motion.
+TrackletTable WithDriftingTracks(const testing::TestScene& s, int every, unsigned seed,
+                                 std::vector<int>* drifting) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
+  TrackletTable out;
+  for (int l = 0; l < s.table.num_landmarks(); ++l) {
+    const bool drift = s.truth[l] == 0 && l % every == 0;
+    if (drift) drifting->push_back(l);
+    const double a = angle(rng);
+    const Eigen::Vector3d velocity = 0.4 * Eigen::Vector3d(std::cos(a), std::sin(a), std::cos(a));
+    const auto obs = s.table.ObservationsOf(l);
+    for (const StereoObservation& o : obs)
+      out.Add(l, o.frame, drift ? Eigen::Vector3d(o.x + (o.frame - obs.front().frame) * velocity) : o.x,
+              o.cov);
+  }
+  return out;
+}
+
+TEST(ClusterSlam, DriftingStaticTracksDoNotBecomeMovingClustersAndTheMoverIsFound) {
+  const auto s = MultiBody(1, 60, 0.5, 5);
+  std::vector<int> drifting;
+  const TrackletTable table = WithDriftingTracks(s, 10, 6, &drifting);
+  ASSERT_GE(drifting.size(), 8u);
+  const FrameRange range{0, 60};
+  const BackendResult r = RunClusterSlam(table, s.camera, range, ClusterSlamOptions::Indoor());
+  const std::vector<int>& labels = r.estimate.landmark_cluster;
+  std::map<int, int> mover_labels, moving_clusters;
+  int mover = 0;
+  for (int l = 0; l < static_cast<int>(s.truth.size()); ++l) {
+    if (labels[l] >= 1) ++moving_clusters[labels[l]];
+    if (s.truth[l] == 1) ++mover, ++mover_labels[labels[l]];
+  }
+  int best = 0;
+  for (const auto& [label, n] : mover_labels)
+    if (label >= 1) best = std::max(best, n);
+  EXPECT_GE(best, 0.9 * mover) << "the mover is one cluster";
+  EXPECT_EQ(moving_clusters.size(), 1u) << "no cluster made of drifting tracks";
+  for (int l : drifting) EXPECT_LE(labels[l], 0) << "landmark " << l;
 }
 
 TEST(ClusterSlam, PresetsAndAblations) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "core/errors.h"
 #include "tests/backend/test_scene.h"
 
@@ -18,13 +20,14 @@ struct Scene {
   std::vector<std::function<Pose(int)>> world_from_body;
 };
 
-Scene MakeTwoMovers(int frames) {
+Scene MakeTwoMovers(int frames, int mover_points = 30) {
   Scene out;
   std::vector<TestBody> bodies(3);
   bodies[0].points_in_body = testing::RandomPoints(120, {-6, -2, 8}, {6, 2, 12}, 1);
   bodies[0].world_from_body = [](int) { return Pose::Identity(); };
   for (int b = 1; b <= 2; ++b) {
-    bodies[b].points_in_body = testing::RandomPoints(30, {-0.8, -0.6, -0.8}, {0.8, 0.6, 0.8}, 10 + b);
+    bodies[b].points_in_body =
+        testing::RandomPoints(mover_points, {-0.8, -0.6, -0.8}, {0.8, 0.6, 0.8}, 10 + b);
     const double dir = b == 1 ? 1.0 : -1.0;
     bodies[b].world_from_body = [=](int t) {
       return YawPose(0.01 * dir * t, Eigen::Vector3d(-dir * 2.0 + dir * 0.08 * t, 0.5 * dir, 5.0));
@@ -98,14 +101,27 @@ TEST(ModelAssignment, MergesASplitBackgroundAndReassignsAMislabelledMover) {
     piece.cam_from_cluster[k] = sc.s.world_from_cam[piece.frames[k]].inverse();
   }
   est.clusters.push_back(piece);
+  // Landmark positions (for the motion test): static points in the world frame.
+  est.landmark_in_cluster.assign(labels.size(), Eigen::Vector3d::Constant(NAN));
+  for (size_t l = 0; l < labels.size(); ++l)
+    if (sc.s.truth[l] == 0 && !tracks[l].samples.empty())
+      est.landmark_in_cluster[l] =
+          sc.s.world_from_cam[tracks[l].samples[0].frame] * tracks[l].samples[0].point;
 
-  const ModelAssignment a = AssignToMotionModels(tracks, labels, est, ModelAssignmentOptions{});
-  EXPECT_EQ(a.merges, 1);
-  EXPECT_TRUE(a.outliers.empty());
-  EXPECT_GE(a.reassigned, 5);
-  EXPECT_EQ(testing::ClusteringAccuracy(a.labels, sc.s.truth), 1.0);
-  for (int l = 0; l < static_cast<int>(labels.size()); ++l)
-    if (sc.s.truth[l] == 0) EXPECT_EQ(a.labels[l], 0) << "landmark " << l;
+  // The piece holds still: dissolved by the motion test, its landmarks fit static. Without that
+  // test the merge test folds it in.
+  ModelAssignmentOptions no_motion_test;
+  no_motion_test.min_relative_motion = 0;
+  for (const ModelAssignmentOptions& o : {ModelAssignmentOptions{}, no_motion_test}) {
+    const ModelAssignment a = AssignToMotionModels(tracks, labels, est, o);
+    EXPECT_EQ(a.dissolved, o.min_relative_motion > 0 ? 1 : 0);
+    EXPECT_EQ(a.merges, o.min_relative_motion > 0 ? 0 : 1);
+    EXPECT_TRUE(a.outliers.empty());
+    EXPECT_GE(a.reassigned, 5);
+    EXPECT_EQ(testing::ClusteringAccuracy(a.labels, sc.s.truth), 1.0);
+    for (int l = 0; l < static_cast<int>(labels.size()); ++l)
+      if (sc.s.truth[l] == 0) EXPECT_EQ(a.labels[l], 0) << "landmark " << l;
+  }
 }
 
 TEST(ModelAssignment, LandmarksOfABodyWithoutAModelBecomeOutliers) {
@@ -134,7 +150,102 @@ TEST(ModelAssignment, TwoMoversAreNotMergedWithEachOtherOrWithTheBackground) {
   const ModelAssignment a =
       AssignToMotionModels(tracks, sc.s.truth, TrueEstimate(sc, {0, 1, 2}), ModelAssignmentOptions{});
   EXPECT_EQ(a.merges, 0);
+  EXPECT_EQ(a.dissolved, 0);
   EXPECT_EQ(testing::ClusteringAccuracy(a.labels, sc.s.truth), 1.0);
+}
+
+TEST(ModelAssignment, ASmallRealMoverOfTenLandmarksIsKept) {
+  const Scene sc = MakeTwoMovers(40, 10);
+  const PointTracks tracks = BackProjectTracks(sc.s.table, sc.s.camera, {0, 40});
+  const MotionEstimate truth = TrueEstimate(sc, {0, 1, 2});
+  const ModelAssignment a = AssignToMotionModels(tracks, sc.s.truth, truth, ModelAssignmentOptions{});
+  EXPECT_EQ(a.dissolved, 0);
+  EXPECT_EQ(testing::ClusteringAccuracy(a.labels, sc.s.truth), 1.0);
+}
+
+TEST(ModelAssignment, RelativeMotionIsZeroForAClusterHeldStillAndLargeForAMover) {
+  const Scene sc = MakeTwoMovers(40);
+  MotionEstimate est = TrueEstimate(sc, {0, 1, 2});
+  est.landmark_in_cluster.assign(sc.s.truth.size(), Eigen::Vector3d::Constant(NAN));
+  for (size_t l = 0; l < sc.s.truth.size(); ++l)  // body points at frame 0, in the body frame
+    est.landmark_in_cluster[l] = sc.world_from_body[sc.s.truth[l]](0).inverse() *
+                                 (sc.s.world_from_cam[0] * Eigen::Vector3d(0, 0, 6 + 0.01 * l));
+  // Body 1 sweeps 3.2 m in 40 frames at ~5 m: RMS ≈ 3.2 / √12 ≈ 0.9 m, i.e. ~0.2 of the range.
+  EXPECT_GT(RelativeMotion(est, sc.s.truth, 1), 0.1);
+  ClusterMotion still = est.clusters[0];
+  still.cluster = 3;
+  for (size_t k = 0; k < still.frames.size(); ++k) {
+    still.world_from_cluster[k] = Pose::Identity();
+    still.cam_from_cluster[k] = sc.s.world_from_cam[still.frames[k]].inverse();
+  }
+  est.clusters.push_back(still);
+  std::vector<int> labels = sc.s.truth;
+  for (size_t l = 0; l < labels.size(); l += 7)
+    if (labels[l] == 0) labels[l] = 3;
+  EXPECT_NEAR(RelativeMotion(est, labels, 3), 0.0, 1e-12);
+  EXPECT_LT(RelativeMotion(est, labels, 4), 0.0);  // no such cluster
+}
+
+// Tracks that follow no physical point (each drifts its own way, like KLT on an occlusion
+// boundary), grouped into a cluster by the re-clustering of outliers.
+TEST(ModelAssignment, AGroupOfDriftingTracksIsDissolvedAndReclusteredOnlyUpToTheLimit) {
+  const Scene sc = MakeTwoMovers(40);
+  PointTracks tracks = BackProjectTracks(sc.s.table, sc.s.camera, {0, 40});
+  std::vector<int> labels = sc.s.truth;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<int> junk;
+  for (int l = 0; l < static_cast<int>(labels.size()) && junk.size() < 12; ++l) {
+    if (sc.s.truth[l] != 0 || tracks[l].samples.size() < 20) continue;
+    const Eigen::Vector3d drift = 0.05 * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+    for (size_t k = 0; k < tracks[l].samples.size(); ++k)
+      tracks[l].samples[k].point += static_cast<double>(k) * drift;
+    labels[l] = 3;
+    junk.push_back(l);
+  }
+  ASSERT_EQ(junk.size(), 12u);
+  // The group's motion: whatever the estimator made of it (here body 1's: no better or worse).
+  MotionEstimate est = TrueEstimate(sc, {0, 1, 2});
+  ClusterMotion group = est.clusters[0];
+  group.cluster = 3;
+  est.clusters.push_back(group);
+
+  std::vector<int> reclusterings(tracks.size(), 0);
+  const ModelAssignmentOptions o;
+  ModelAssignment a = AssignToMotionModels(tracks, labels, est, o, &reclusterings);
+  EXPECT_EQ(a.dissolved, 1);
+  EXPECT_EQ(a.outliers, junk);  // handed out again: this was their first group
+  for (int l : junk) EXPECT_EQ(reclusterings[l], 1);
+  EXPECT_EQ(a.unexplained, 0);
+
+  for (int l : junk) reclusterings[l] = o.max_reclusterings;
+  a = AssignToMotionModels(tracks, labels, est, o, &reclusterings);
+  EXPECT_EQ(a.dissolved, 1);
+  EXPECT_TRUE(a.outliers.empty());
+  EXPECT_EQ(a.unexplained, 12);
+  for (int l : junk) EXPECT_EQ(a.labels[l], -1);
+  for (int l = 0; l < static_cast<int>(labels.size()); ++l)
+    if (labels[l] != 3) EXPECT_EQ(a.labels[l], sc.s.truth[l]) << "landmark " << l;
+
+  // Without the dissolution the group stays a "moving" cluster of its own.
+  ModelAssignmentOptions old = o;
+  old.min_cluster_landmarks = 0;
+  old.core_cluster_landmarks = 0;
+  a = AssignToMotionModels(tracks, labels, est, old, &reclusterings);
+  EXPECT_EQ(a.dissolved, 0);
+}
+
+TEST(ModelAssignment, TrimmedCostLeavesOutOneJumpedSample) {
+  const Scene sc = MakeTwoMovers(40);
+  PointTracks tracks = BackProjectTracks(sc.s.table, sc.s.camera, {0, 40});
+  const MotionEstimate truth = TrueEstimate(sc, {0, 1, 2});
+  int l = 0;
+  while (sc.s.truth[l] != 0 || tracks[l].samples.size() < 20) ++l;
+  PointSample& s = tracks[l].samples[10];
+  const Eigen::Matrix3d l_factor = s.cov.llt().matrixL();
+  s.point += 30.0 * (l_factor * Eigen::Vector3d(1, 0, 0));  // a 30σ jump
+  EXPECT_GT(ModelCost(tracks[l], truth, 0, 0.8), 3.0);
+  EXPECT_LT(ModelCost(tracks[l], truth, 0, 0.8, 1), 2.0);
 }
 
 TEST(ModelAssignment, CheckNamesTheBadKey) {
@@ -148,6 +259,17 @@ TEST(ModelAssignment, CheckNamesTheBadKey) {
   }
   o = ModelAssignmentOptions{};
   o.merge_ratio = 0.5;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o = ModelAssignmentOptions{};
+  o.max_reclusterings = 0;
+  try {
+    o.Check();
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("model_assignment.max_reclusterings"), std::string::npos);
+  }
+  o = ModelAssignmentOptions{};
+  o.min_relative_motion = -1;
   EXPECT_THROW(o.Check(), ConfigError);
 }
 
