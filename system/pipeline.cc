@@ -1,5 +1,6 @@
 #include "system/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <thread>
@@ -13,6 +14,7 @@
 #include "core/timer.h"
 #include "system/bounded_queue.h"
 #include "system/estimate_sanity.h"
+#include "system/window_prior.h"
 
 namespace cslam {
 
@@ -72,7 +74,14 @@ class BackendStage {
     Timer timer;
     BackendResult result;
     try {
-      result = backend_(window_table, camera_, range, options_);
+      // Online ClusterSLAM windows start from what the map knows (the map is ours: this
+      // thread integrates every window).
+      std::optional<WindowPrior> prior;
+      if (options_.mode == "online" && options_.method == "clusterslam" &&
+          options_.backend.window_prior.enabled)
+        prior = WindowPriorFromMap(map_, window_table, range);
+      stats.prior_ms = timer.ElapsedMs();
+      result = backend_(window_table, camera_, range, options_, prior ? &*prior : nullptr);
     } catch (const ConfigError&) {
       throw;  // every later window would fail the same way
     } catch (const std::exception& e) {
@@ -83,6 +92,7 @@ class BackendStage {
       return stats;
     }
     stats.backend_ms = timer.ElapsedMs();
+    stats.warm_started = result.warm_started;
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
     const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
     if (!sanity.usable) {
@@ -94,7 +104,9 @@ class BackendStage {
     timer.Reset();
     stats.integration = map_.Integrate(result.estimate);
     stats.integrate_ms = timer.ElapsedMs();
+    timer.Reset();
     renders_.AfterWindow(map_, window_table, range);
+    stats.render_ms = timer.ElapsedMs();
     GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
                               range.end - 1, stats.clusters,
                               stats.integration.gap ? ", chained across a gap" : "");
@@ -437,11 +449,44 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   return out;
 }
 
+// Where a run's time went, per stage (issue 5: the online system's frame rate). In online
+// mode the reader, frontend and backend run on their own threads, so these add up to more
+// than the wall time when the stages overlap.
+void LogStageTimes(const PipelineResult& out) {
+  double frontend_ms = 0;
+  for (const FrameSummary& f : out.frontend_frames) frontend_ms += f.total_ms;
+  std::vector<double> backend_ms;
+  double backend_sum = 0, prior_sum = 0, integrate_sum = 0, render_sum = 0;
+  int warm = 0;
+  for (const WindowStats& w : out.windows) {
+    if (w.backend_ms <= 0) continue;
+    backend_ms.push_back(w.backend_ms);
+    backend_sum += w.backend_ms;
+    prior_sum += w.prior_ms;
+    integrate_sum += w.integrate_ms;
+    render_sum += w.render_ms;
+    warm += w.warm_started ? 1 : 0;
+  }
+  std::sort(backend_ms.begin(), backend_ms.end());
+  const int frames = std::max(out.frames_processed, 1);
+  const int windows = std::max(static_cast<int>(backend_ms.size()), 1);
+  GetLogger("system")->info(
+      "stage times: read {:.1f} ms/frame; frontend {:.1f} ms/frame; backend {:.1f} ms/window "
+      "median, {:.1f} mean ({} of {} windows warm-started; prior {:.1f} ms, integration {:.1f} ms, "
+      "queuing renders {:.1f} ms mean), {:.1f} s in all; wall {:.1f} s, {:.2f} frames/s",
+      out.read_ms_per_frame, out.frontend_frames.empty() ? 0.0 : frontend_ms / frames,
+      backend_ms.empty() ? 0.0 : backend_ms[backend_ms.size() / 2], backend_sum / windows, warm,
+      backend_ms.size(), prior_sum / windows, integrate_sum / windows, render_sum / windows,
+      backend_sum / 1000.0,
+      out.total_s, out.total_s > 0 ? out.frames_processed / out.total_s : 0.0);
+}
+
 }  // namespace
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
-                         const PipelineOptions& options) {
-  if (options.method == "clusterslam") return RunClusterSlam(table, camera, range, options.backend);
+                         const PipelineOptions& options, const WindowPrior* prior) {
+  if (options.method == "clusterslam")
+    return RunClusterSlamWindow(table, camera, range, options.backend, prior);
   // The baselines get the same covariance floor as ClusterSLAM (it floors inside).
   const std::optional<TrackletTable> floored =
       FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
@@ -464,6 +509,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options
     out = RunOnlineThreaded(input, options, stop, progress, backend);
   }
   out.total_s = timer.ElapsedS();
+  LogStageTimes(out);
   return out;
 }
 

@@ -150,10 +150,11 @@ TEST(Pipeline, BatchModeGivesEveryFrameAPoseNearTheTruth) {
 // A backend that fails (throws, or returns non-finite poses) for the windows ending at the
 // given frames and runs the real one otherwise.
 BackendFunction FailingAt(std::vector<int> throw_at, std::vector<int> nan_at) {
-  return [=](const TrackletTable& t, const StereoCamera& c, FrameRange r, const PipelineOptions& o) {
+  return [=](const TrackletTable& t, const StereoCamera& c, FrameRange r, const PipelineOptions& o,
+             const WindowPrior* prior) {
     if (std::find(throw_at.begin(), throw_at.end(), r.end) != throw_at.end())
       throw std::runtime_error("injected solver failure");
-    BackendResult b = RunBackend(t, c, r, o);
+    BackendResult b = RunBackend(t, c, r, o, prior);
     if (std::find(nan_at.begin(), nan_at.end(), r.end) != nan_at.end())
       b.estimate.world_from_cam[1].translation().x() = std::numeric_limits<double>::quiet_NaN();
     return b;
@@ -192,8 +193,8 @@ TEST(Pipeline, AFiniteButAbsurdEstimateIsDiscarded) {
   // The old check (every pose finite) let a diverged solve through: camera steps of 1e20 m.
   const RunInput in = SmallSyntheticInput();
   const BackendFunction jumping = [](const TrackletTable& t, const StereoCamera& c, FrameRange r,
-                                     const PipelineOptions& o) {
-    BackendResult b = RunBackend(t, c, r, o);
+                                     const PipelineOptions& o, const WindowPrior* prior) {
+    BackendResult b = RunBackend(t, c, r, o, prior);
     if (r.end == 40)
       for (size_t f = 5; f < b.estimate.world_from_cam.size(); ++f)
         b.estimate.world_from_cam[f].translation().z() += 1e20;
