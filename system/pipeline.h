@@ -28,6 +28,7 @@ struct WindowStats {
   FrameRange range;
   double backend_ms = 0.0;    ///< RunClusterSlam / baseline wall time, incl. building the prior
   double prior_ms = 0.0;      ///< of backend_ms: building the window's prior from the map
+  double backend_cpu_ms = 0.0;  ///< CPU time of the backend thread over backend_ms
   bool warm_started = false;  ///< the backend started from the map's prior
   double integrate_ms = 0.0;  ///< association + stitching
   double render_ms = 0.0;     ///< preparing and queuing the due snapshots / overlays
@@ -48,6 +49,7 @@ struct PipelineResult {
   bool interrupted = false;  ///< stopped by a stop request before the end of the input
   double total_s = 0.0;
   double read_ms_per_frame = 0.0;
+  double read_cpu_ms_per_frame = 0.0;  ///< CPU time of the reading thread (image decoding)
   /// Resident memory and time every few frames (resources.csv, render/resources.png).
   std::vector<ResourceSample> resources;
   FrameRenderStats renders;  ///< snapshots and overlays written during the run

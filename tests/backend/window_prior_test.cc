@@ -50,7 +50,8 @@ TEST(CompleteCameraPoses, FramesAfterTheKnownOnesAreRegisteredOnTheStaticLandmar
   const std::vector<Pose> poses = CompleteCameraPoses(prior, s.table, s.camera, ShapeInitOptions{});
   ASSERT_EQ(poses.size(), 20u);
   for (int f = 0; f <= 9; ++f) EXPECT_TRUE(poses[f].isApprox(s.world_from_cam[f])) << f;
-  for (int f = 10; f < 20; ++f) EXPECT_LT(TranslationError(poses[f], s.world_from_cam[f]), 0.25) << f;
+  // Measured: 1–3 mm on ~400 points with 0.5 px noise.
+  for (int f = 10; f < 20; ++f) EXPECT_LT(TranslationError(poses[f], s.world_from_cam[f]), 0.02) << f;
 
   // Without static landmarks the same frames only get the prediction, which is far off: the
   // registration above is what placed them.
@@ -63,7 +64,7 @@ TEST(CompleteCameraPoses, FramesBeforeTheKnownOnesAreRegisteredBackwards) {
   const testing::TestScene s = AcceleratingStreet();
   const WindowPrior prior = PriorFrom(s, 12, 19);
   const std::vector<Pose> poses = CompleteCameraPoses(prior, s.table, s.camera, ShapeInitOptions{});
-  for (int f = 0; f < 12; ++f) EXPECT_LT(TranslationError(poses[f], s.world_from_cam[f]), 0.25) << f;
+  for (int f = 0; f < 12; ++f) EXPECT_LT(TranslationError(poses[f], s.world_from_cam[f]), 0.02) << f;
 }
 
 TEST(CompleteCameraPoses, NeedsAKnownPose) {
@@ -71,7 +72,7 @@ TEST(CompleteCameraPoses, NeedsAKnownPose) {
   WindowPrior prior = PriorFrom(s, 0, 0);
   prior.world_from_cam[0].reset();
   EXPECT_EQ(prior.KnownFrames(), 0);
-  EXPECT_ANY_THROW(CompleteCameraPoses(prior, s.table, s.camera, ShapeInitOptions{}));
+  EXPECT_DEATH(CompleteCameraPoses(prior, s.table, s.camera, ShapeInitOptions{}), "known camera pose");
 }
 
 }  // namespace
