@@ -31,6 +31,7 @@ struct WindowStats {
   double backend_cpu_ms = 0.0;  ///< CPU time of the backend thread over backend_ms
   bool warm_started = false;  ///< the backend started from the map's prior
   double integrate_ms = 0.0;  ///< association + stitching
+  double integrate_cpu_ms = 0.0;  ///< CPU time of the backend thread over integrate_ms
   double render_ms = 0.0;     ///< preparing and queuing the due snapshots / overlays
   int clusters = 0;           ///< moving clusters found in the window
   bool failed = false;        ///< discarded (solver failure, non-finite poses, too few landmarks)
