@@ -44,8 +44,9 @@ ClusterSlamAblation ParseAblation(const std::string& name, const std::string& ke
 struct WindowPriorOptions {
   bool enabled = true;  ///< false: every window runs the whole loop from scratch (cold start)
   /// Rounds of model assignment + estimation from the prior (the cold loop runs up to
-  /// max_iterations full estimations after a pairwise clustering).
-  int max_iterations = 2;
+  /// max_iterations full estimations after a pairwise clustering). Measured: 2 rounds cost
+  /// 1.5–1.6× the CPU of 1 for the same camera and clustering (docs/benchmarks.md).
+  int max_iterations = 1;
   /// Levenberg–Marquardt iterations of each adjustment (it starts near the answer; the solve
   /// still stops earlier at motion.bundle_adjustment.function_tolerance).
   int ba_iterations = 10;
