@@ -48,6 +48,8 @@ void WindowPriorOptions::Load(OptionsReader& reader) {
   reader.Read("enabled", &enabled);
   reader.Read("max_iterations", &max_iterations);
   reader.Read("ba_iterations", &ba_iterations);
+  reader.Read("adjust_prior", &adjust_prior);
+  reader.Read("keep_moving_labels", &keep_moving_labels);
   reader.Read("min_known_frames", &min_known_frames);
   reader.Read("min_known_landmarks", &min_known_landmarks);
 }
@@ -342,7 +344,10 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
   // model assignment below places them.
   Timer timer;
   std::vector<int> map_labels(n, -1);
-  for (int l : table.LandmarksIn(range)) map_labels[l] = prior->ClusterOf(l);
+  for (int l : table.LandmarksIn(range)) {
+    const int c = prior->ClusterOf(l);
+    map_labels[l] = c > 0 && !opts.window_prior.keep_moving_labels ? -1 : c;
+  }
   std::vector<int> labels = StaticFirstLabels(map_labels, counts, &map_labels);
   MotionEstimate start;
   start.range = range;
@@ -354,9 +359,10 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
       start.landmark_cluster[l] = 0;
       start.landmark_in_cluster[l] = prior->static_point[l];
     }
-  MotionEstimationOptions shapes_only = opts.motion;
-  shapes_only.run_bundle_adjustment = false;
-  result.estimate = EstimateMotions(table, camera, range, labels, shapes_only, &start);
+  MotionEstimationOptions first = opts.motion;
+  first.run_bundle_adjustment = opts.window_prior.adjust_prior;
+  first.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
+  result.estimate = EstimateMotions(table, camera, range, labels, first, &start);
   {
     IterationDiagnostics diag;
     diag.iteration = 1;

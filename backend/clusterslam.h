@@ -50,6 +50,17 @@ struct WindowPriorOptions {
   /// Levenberg–Marquardt iterations of each adjustment (it starts near the answer; the solve
   /// still stops earlier at motion.bundle_adjustment.function_tolerance).
   int ba_iterations = 10;
+  /// Adjust the prior's first estimate (its labels, the new landmarks left out) before the
+  /// model assignment; false: the assignment sees the shape initialisation of the moving
+  /// clusters as it is.
+  bool adjust_prior = false;
+  /// Start the window's moving clusters from the map's (true), or only its static world
+  /// (false: landmarks of moving map clusters start unlabelled, and those the static world
+  /// does not explain are re-clustered among themselves with Eq. 1 + HAC, as the cold loop's
+  /// outliers are). Measured (docs/benchmarks.md): true keeps the map's fragments of an
+  /// object apart window after window (indoor seed 1: 0 of 3 objects found, 18 clusters;
+  /// false 2 of 3, 5), false finds fewer cars outdoors (seed 1, 200 frames: 3 of 10, true 5).
+  bool keep_moving_labels = false;
   /// The prior is used only when at least this fraction of the window's frames have a camera
   /// pose in it and at least `min_known_landmarks` of the window's landmarks with 4 or more
   /// observations have a cluster; otherwise the window is cold-started (after a tracking
@@ -57,7 +68,8 @@ struct WindowPriorOptions {
   double min_known_frames = 0.5;
   double min_known_landmarks = 0.5;
   void Check() const;
-  /// Keys: enabled, max_iterations, ba_iterations, min_known_frames, min_known_landmarks.
+  /// Keys: enabled, max_iterations, ba_iterations, adjust_prior, min_known_frames,
+  /// min_known_landmarks.
   void Load(OptionsReader& reader);
 };
 
