@@ -153,7 +153,8 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
                              const MotionEstimator& estimator);
 
 /// One online window [ours]. With a usable `prior` (see WindowPriorOptions; may be null) the
-/// first pairwise clustering is skipped: the prior's labels and camera poses (the frames it
+/// first pairwise clustering is skipped: the prior's labels (only the static ones unless
+/// window_prior.keep_moving_labels) and camera poses (the frames it
 /// lacks registered on its static landmarks, CompleteCameraPoses) give a first estimate
 /// without adjustment, static landmarks at the map's positions and moving clusters
 /// shape-initialised from the window's observations. Then up to window_prior.max_iterations
