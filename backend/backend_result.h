@@ -26,6 +26,9 @@ struct BackendResult {
   MotionEstimate estimate;
   std::vector<IterationDiagnostics> iterations;
   double time_s = 0.0;           ///< wall time of the whole backend call
+  /// ClusterSLAM online windows: started from the map's prior (RunClusterSlamWindow) rather
+  /// than from scratch.
+  bool warm_started = false;
 };
 
 }  // namespace cslam

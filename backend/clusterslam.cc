@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
 
 #include "backend/covariance_floor.h"
 #include "backend/labelling.h"
@@ -27,6 +30,28 @@ ClusterSlamAblation ParseAblation(const std::string& name, const std::string& ke
                  ClusterSlamAblation::kNoImagePrior, ClusterSlamAblation::kPointToPointIcp})
     if (ToString(a) == name) return a;
   throw ConfigError(key + ": must be one of none, no_u, no_i, p2p_icp, got '" + name + "'");
+}
+
+void WindowPriorOptions::Check() const {
+  CheckOption(max_iterations >= 1, "clusterslam.window_prior.max_iterations", "must be >= 1",
+              max_iterations);
+  CheckOption(ba_iterations >= 1, "clusterslam.window_prior.ba_iterations", "must be >= 1",
+              ba_iterations);
+  CheckOption(min_known_frames > 0 && min_known_frames <= 1,
+              "clusterslam.window_prior.min_known_frames", "must be in (0, 1]", min_known_frames);
+  CheckOption(min_known_landmarks >= 0 && min_known_landmarks <= 1,
+              "clusterslam.window_prior.min_known_landmarks", "must be in [0, 1]",
+              min_known_landmarks);
+}
+
+void WindowPriorOptions::Load(OptionsReader& reader) {
+  reader.Read("enabled", &enabled);
+  reader.Read("max_iterations", &max_iterations);
+  reader.Read("ba_iterations", &ba_iterations);
+  reader.Read("adjust_prior", &adjust_prior);
+  reader.Read("keep_moving_labels", &keep_moving_labels);
+  reader.Read("min_known_frames", &min_known_frames);
+  reader.Read("min_known_landmarks", &min_known_landmarks);
 }
 
 ClusterSlamOptions ClusterSlamOptions::Indoor() {
@@ -62,6 +87,7 @@ void ClusterSlamOptions::Check() const {
   consensus.Check();
   motion.Check();
   assignment.Check();
+  window_prior.Check();
   CheckOption(max_iterations >= 1, "clusterslam.max_iterations", "must be >= 1", max_iterations);
   CheckOption(std::isfinite(convergence_vi) && convergence_vi >= 0, "clusterslam.convergence_vi",
               "must be >= 0 (nats)", convergence_vi);
@@ -89,6 +115,9 @@ void ClusterSlamOptions::Load(OptionsReader& reader) {
   OptionsReader a = reader.Section("assignment");
   assignment.Load(a);
   a.Finish();
+  OptionsReader w = reader.Section("window_prior");
+  window_prior.Load(w);
+  w.Finish();
   std::string name = ToString(ablation);
   reader.Read("ablation", &name);
   ablation = ParseAblation(name, reader.Where("ablation"));
@@ -260,6 +289,136 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
               result.estimate.chi2, timer.ElapsedMs());
   }
   // The estimator owns landmark_cluster, but the loop's labelling is the reference.
+  if (result.estimate.landmark_cluster.empty()) result.estimate.landmark_cluster = labels;
+  result.time_s = total.ElapsedS();
+  return result;
+}
+
+bool PriorIsUsable(const WindowPrior& prior, const TrackletTable& table, FrameRange range,
+                   const WindowPriorOptions& options, std::string* why) {
+  auto refuse = [why](std::string reason) {
+    if (why) *why = std::move(reason);
+    return false;
+  };
+  if (!(prior.range == range)) return refuse("the prior is for another range");
+  if (static_cast<int>(prior.world_from_cam.size()) != range.size())
+    return refuse("the prior needs one entry per frame");
+  if (!prior.world_from_cam.empty() && !prior.world_from_cam.front())
+    return refuse("no camera pose at the window's first frame");
+  const int known_frames = prior.KnownFrames();
+  if (known_frames < options.min_known_frames * range.size())
+    return refuse(fmt::format("{} of {} frames have a camera pose", known_frames, range.size()));
+  if (prior.static_point.size() != prior.landmark_cluster.size())
+    return refuse("static_point and landmark_cluster differ in size");
+  int tracked = 0, labelled = 0, positioned_static = 0;
+  for (int l : table.LandmarksIn(range, 4)) {
+    ++tracked;
+    const int c = prior.ClusterOf(l);
+    if (c >= 0) ++labelled;
+    if (c == 0 && prior.static_point[l].allFinite()) ++positioned_static;
+  }
+  if (labelled < options.min_known_landmarks * tracked)
+    return refuse(fmt::format("{} of {} landmarks have a cluster", labelled, tracked));
+  if (positioned_static == 0) return refuse("no static landmark has a position");
+  return true;
+}
+
+BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const StereoCamera& camera,
+                                   FrameRange range, const ClusterSlamOptions& options,
+                                   const WindowPrior* prior) {
+  const ClusterSlamOptions opts = options.Effective();
+  opts.Check();
+  auto log = GetLogger("backend");
+  std::string why = "no prior";
+  if (!opts.window_prior.enabled) why = "warm start disabled";
+  if (!opts.window_prior.enabled || !prior ||
+      !PriorIsUsable(*prior, input_table, range, opts.window_prior, &why)) {
+    log->info("window {}..{}: cold start ({})", range.begin, range.end - 1, why);
+    return RunClusterSlam(input_table, camera, range, options);
+  }
+  const Timer total;
+  const std::optional<TrackletTable> floored =
+      FloorPixelCovariances(input_table, range, opts.min_pixel_sigma);
+  const TrackletTable& table = floored ? *floored : input_table;
+  BackendResult result;
+  result.method = "clusterslam";
+  result.warm_started = true;
+  const int n = table.num_landmarks();
+  const PointTracks raw = BackProjectTracks(table, camera, range);
+  const std::vector<int> counts = ObservationCounts(table, range);
+
+  // Iteration 1: the prior itself, as an estimate without adjustment. Its labels are the
+  // map's (relabelled static-first); landmarks new to the map stay unlabelled until the
+  // model assignment below places them.
+  Timer timer;
+  std::vector<int> map_labels(n, -1);
+  for (int l : table.LandmarksIn(range)) {
+    const int c = prior->ClusterOf(l);
+    map_labels[l] = c > 0 && !opts.window_prior.keep_moving_labels ? -1 : c;
+  }
+  std::vector<int> labels = StaticFirstLabels(map_labels, counts, &map_labels);
+  MotionEstimate start;
+  start.range = range;
+  start.world_from_cam = CompleteCameraPoses(*prior, table, camera, opts.motion.shape_init);
+  start.landmark_cluster.assign(n, -1);
+  start.landmark_in_cluster.assign(n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  for (int l = 0; l < n; ++l)
+    if (labels[l] == 0 && prior->static_point[l].allFinite()) {
+      start.landmark_cluster[l] = 0;
+      start.landmark_in_cluster[l] = prior->static_point[l];
+    }
+  MotionEstimationOptions first = opts.motion;
+  first.run_bundle_adjustment = opts.window_prior.adjust_prior;
+  first.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
+  result.estimate = EstimateMotions(table, camera, range, labels, first, &start);
+  {
+    IterationDiagnostics diag;
+    diag.iteration = 1;
+    diag.num_clusters = *std::max_element(labels.begin(), labels.end()) + 1;
+    diag.estimation_ms = timer.ElapsedMs();
+    diag.chi2 = result.estimate.chi2;
+    result.iterations.push_back(diag);
+    log->info("clusterslam window {}..{} warm start: {} clusters from the map, {} of {} frames "
+              "posed, chi2 {:.1f}, {:.1f} ms",
+              range.begin, range.end - 1, diag.num_clusters, prior->KnownFrames(), range.size(),
+              diag.chi2, diag.estimation_ms);
+  }
+
+  MotionEstimationOptions motion = opts.motion;
+  motion.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
+  MovingClusterCache cache;
+  std::vector<int> reclusterings(raw.size(), 0);  // per landmark, over this window's rounds
+  bool adjusted = false;
+  for (int round = 1; round <= opts.window_prior.max_iterations; ++round) {
+    IterationDiagnostics diag;
+    diag.iteration = round + 1;
+    timer.Reset();
+    std::vector<int> next =
+        AssignAndRecluster(table, raw, range, labels, result.estimate, opts, &diag,
+                           &reclusterings);
+    diag.clustering_ms = timer.ElapsedMs();
+    diag.num_clusters = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;
+    diag.vi_to_previous = LabellingVariation(labels, next);
+    if (adjusted && diag.vi_to_previous <= opts.convergence_vi) {
+      diag.chi2 = result.estimate.chi2;
+      result.iterations.push_back(diag);
+      log->info("clusterslam iteration {}: {} clusters, labelling stable", diag.iteration,
+                diag.num_clusters);
+      break;
+    }
+    labels = std::move(next);
+    timer.Reset();
+    result.estimate = EstimateMotions(table, camera, range, labels, motion, &result.estimate,
+                                      opts.reuse_unchanged_clusters ? &cache : nullptr);
+    adjusted = true;
+    diag.estimation_ms = timer.ElapsedMs();
+    diag.chi2 = result.estimate.chi2;
+    result.iterations.push_back(diag);
+    log->info("clusterslam iteration {}: {} clusters ({} reassigned, {} outliers re-clustered, "
+              "{} merges), VI {:.4f}, chi2 {:.1f}, assignment {:.1f} ms, estimation {:.1f} ms",
+              diag.iteration, diag.num_clusters, diag.reassigned, diag.outliers, diag.merges,
+              diag.vi_to_previous, diag.chi2, diag.clustering_ms, diag.estimation_ms);
+  }
   if (result.estimate.landmark_cluster.empty()) result.estimate.landmark_cluster = labels;
   result.time_s = total.ElapsedS();
   return result;

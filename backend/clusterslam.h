@@ -20,6 +20,7 @@
 #include "backend/motion_distance.h"
 #include "backend/model_assignment.h"
 #include "backend/motion_estimation.h"
+#include "backend/window_prior.h"
 #include "core/options_reader.h"
 #include "core/stereo_camera.h"
 #include "core/tracklet_table.h"
@@ -37,6 +38,40 @@ enum class ClusterSlamAblation {
 std::string ToString(ClusterSlamAblation ablation);
 /// Inverse of ToString; throws ConfigError naming `key` for an unknown name.
 ClusterSlamAblation ParseAblation(const std::string& name, const std::string& key);
+
+/// [ours] The online warm start of RunClusterSlamWindow: how a window uses what the map already
+/// knows (backend/window_prior.h). YAML section `backend.window_prior`.
+struct WindowPriorOptions {
+  bool enabled = true;  ///< false: every window runs the whole loop from scratch (cold start)
+  /// Rounds of model assignment + estimation from the prior (the cold loop runs up to
+  /// max_iterations full estimations after a pairwise clustering). Measured: 2 rounds cost
+  /// 1.5–1.6× the CPU of 1 for the same camera and clustering (docs/benchmarks.md).
+  int max_iterations = 1;
+  /// Levenberg–Marquardt iterations of each adjustment (it starts near the answer; the solve
+  /// still stops earlier at motion.bundle_adjustment.function_tolerance).
+  int ba_iterations = 10;
+  /// Adjust the prior's first estimate (its labels, the new landmarks left out) before the
+  /// model assignment; false: the assignment sees the shape initialisation of the moving
+  /// clusters as it is.
+  bool adjust_prior = false;
+  /// Start the window's moving clusters from the map's (true), or only its static world
+  /// (false: landmarks of moving map clusters start unlabelled, and those the static world
+  /// does not explain are re-clustered among themselves with Eq. 1 + HAC, as the cold loop's
+  /// outliers are). Measured (docs/benchmarks.md): true keeps the map's fragments of an
+  /// object apart window after window (indoor seed 1: 0 of 3 objects found, 18 clusters;
+  /// false 2 of 3, 5), false finds fewer cars outdoors (seed 1, 200 frames: 3 of 10, true 5).
+  bool keep_moving_labels = false;
+  /// The prior is used only when at least this fraction of the window's frames have a camera
+  /// pose in it and at least `min_known_landmarks` of the window's landmarks with 4 or more
+  /// observations have a cluster; otherwise the window is cold-started (after a tracking
+  /// break, or when the map was refused several windows in a row).
+  double min_known_frames = 0.5;
+  double min_known_landmarks = 0.5;
+  void Check() const;
+  /// Keys: enabled, max_iterations, ba_iterations, adjust_prior, min_known_frames,
+  /// min_known_landmarks.
+  void Load(OptionsReader& reader);
+};
 
 /// Everything RunClusterSlam needs; the component options are used as given except that
 /// `ablation` switches the corresponding component fields on top of them.
@@ -85,6 +120,8 @@ struct ClusterSlamOptions {
   /// default 1.5 px (0.75 px²). At 0 px (1e-12 px²), seed 1, 100 frames, measured outdoor
   /// accuracy 0.834 / 0.603 / 0.978 with 0.15 / 0.3 / 0.5 px, indoor 0.976 / 0.989 / 0.987.
   double min_pixel_sigma = 0.5;
+  /// [ours] Online windows: start from the map's prior (RunClusterSlamWindow).
+  WindowPriorOptions window_prior;
 
   /// ε = 60, chunks 100 / 25 [paper].
   static ClusterSlamOptions Indoor();
@@ -93,7 +130,7 @@ struct ClusterSlamOptions {
   /// The component options with the ablation applied.
   ClusterSlamOptions Effective() const;
   void Check() const;
-  /// Keys: distance, hac, consensus, motion, assignment (sections), ablation, max_iterations,
+  /// Keys: distance, hac, consensus, motion, assignment, window_prior (sections), ablation, max_iterations,
   /// convergence_vi, intermediate_ba_iterations, warm_start, reuse_unchanged_clusters,
   /// refine_half_window.
   void Load(OptionsReader& reader);
@@ -114,6 +151,27 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
 BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& camera,
                              FrameRange range, const ClusterSlamOptions& options,
                              const MotionEstimator& estimator);
+
+/// One online window [ours]. With a usable `prior` (see WindowPriorOptions; may be null) the
+/// first pairwise clustering is skipped: the prior's labels (only the static ones unless
+/// window_prior.keep_moving_labels) and camera poses (the frames it
+/// lacks registered on its static landmarks, CompleteCameraPoses) give a first estimate
+/// without adjustment, static landmarks at the map's positions and moving clusters
+/// shape-initialised from the window's observations. Then up to window_prior.max_iterations
+/// rounds of: model assignment (landmarks new to the map join the model that explains their
+/// track, wrongly labelled ones move, outliers are re-clustered with Eq. 1 + HAC, clusters that
+/// move alike merge), and an estimation with window_prior.ba_iterations LM iterations whose
+/// static cluster starts from the previous estimate. Stops early when the labelling is
+/// stable (convergence_vi). Otherwise, the cold start: RunClusterSlam. result.warm_started
+/// says which ran.
+BackendResult RunClusterSlamWindow(const TrackletTable& table, const StereoCamera& camera,
+                                   FrameRange range, const ClusterSlamOptions& options,
+                                   const WindowPrior* prior);
+
+/// Whether `prior` is usable for a window over `range` of `table` under `options` (see
+/// WindowPriorOptions); `why` (may be null) receives the reason when it is not.
+bool PriorIsUsable(const WindowPrior& prior, const TrackletTable& table, FrameRange range,
+                   const WindowPriorOptions& options, std::string* why = nullptr);
 
 /// The clustering half of one iteration: per-chunk distance + HAC, then consensus, relabelled
 /// static-first (0 static, 1..K moving, -1 none). `previous` (may be null) is the previous

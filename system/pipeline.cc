@@ -1,6 +1,8 @@
 #include "system/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <exception>
 #include <thread>
 
@@ -13,10 +15,19 @@
 #include "core/timer.h"
 #include "system/bounded_queue.h"
 #include "system/estimate_sanity.h"
+#include "system/window_prior.h"
 
 namespace cslam {
 
 namespace {
+
+// CPU time of the calling thread: on the shared 2-core machine wall time mostly measures the
+// other processes, and each stage runs on one thread.
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
 
 // Produces the tracklet table frame by frame: from images through the frontend, or by
 // replaying ready-made tracklets (synthetic sequences without images) in frame order, so the
@@ -70,9 +81,17 @@ class BackendStage {
     WindowStats stats;
     stats.range = range;
     Timer timer;
+    const double cpu_start = ThreadCpuMs();
     BackendResult result;
     try {
-      result = backend_(window_table, camera_, range, options_);
+      // Online ClusterSLAM windows start from what the map knows (the map is ours: this
+      // thread integrates every window).
+      std::optional<WindowPrior> prior;
+      if (options_.mode == "online" && options_.method == "clusterslam" &&
+          options_.backend.window_prior.enabled)
+        prior = WindowPriorFromMap(map_, window_table, range);
+      stats.prior_ms = timer.ElapsedMs();
+      result = backend_(window_table, camera_, range, options_, prior ? &*prior : nullptr);
     } catch (const ConfigError&) {
       throw;  // every later window would fail the same way
     } catch (const std::exception& e) {
@@ -83,6 +102,8 @@ class BackendStage {
       return stats;
     }
     stats.backend_ms = timer.ElapsedMs();
+    stats.backend_cpu_ms = ThreadCpuMs() - cpu_start;
+    stats.warm_started = result.warm_started;
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
     const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
     if (!sanity.usable) {
@@ -92,9 +113,13 @@ class BackendStage {
       return stats;
     }
     timer.Reset();
+    const double integrate_cpu_start = ThreadCpuMs();
     stats.integration = map_.Integrate(result.estimate);
     stats.integrate_ms = timer.ElapsedMs();
+    stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
+    timer.Reset();
     renders_.AfterWindow(map_, window_table, range);
+    stats.render_ms = timer.ElapsedMs();
     GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
                               range.end - 1, stats.clusters,
                               stats.integration.gap ? ", chained across a gap" : "");
@@ -245,13 +270,15 @@ class Pacer {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-FrameItem ReadFrame(const RunInput& input, int index, double* read_ms) {
+FrameItem ReadFrame(const RunInput& input, int index, double* read_ms, double* read_cpu_ms) {
   FrameItem item;
   item.index = index;
   if (input.has_images()) {
     Timer t;
+    const double cpu = ThreadCpuMs();
     item.images = input.images->Load(index);
     *read_ms += t.ElapsedMs();
+    *read_cpu_ms += ThreadCpuMs() - cpu;
   }
   return item;
 }
@@ -263,7 +290,7 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
                     const ProgressCallback& progress, TrackingStage* tracking,
                     PipelineResult* out, const std::function<void(int)>& after_frame) {
   const int n = input.num_frames();
-  double read_ms = 0;
+  double read_ms = 0, read_cpu_ms = 0;
   ResourceSampler sampler(kResourceSampleEvery);
   for (int f = 0; f < n; ++f) {
     if (StopRequested(stop)) {
@@ -272,7 +299,7 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
     }
     FrameItem item;
     try {
-      item = ReadFrame(input, f, &read_ms);
+      item = ReadFrame(input, f, &read_ms, &read_cpu_ms);
     } catch (...) {
       out->error = std::current_exception();
       break;
@@ -286,6 +313,7 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
   }
   sampler.Finish(out->frames_processed);
   out->resources = std::move(sampler.samples());
+  if (out->frames_processed) out->read_cpu_ms_per_frame = read_cpu_ms / out->frames_processed;
   return read_ms;
 }
 
@@ -349,14 +377,14 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   std::exception_ptr reader_error, frontend_error, backend_error;
   std::atomic<bool> abort{false};
   auto stopping = [&] { return abort.load() || StopRequested(stop); };
-  double read_ms = 0;
+  double read_ms = 0, read_cpu_ms = 0;
 
   std::thread reader([&] {
     try {
       Pacer pacer(input.timestamps);
       for (int f = 0; f < n && !stopping(); ++f) {
         if (online.realtime) pacer.WaitFor(f);
-        if (!frames.Push(ReadFrame(input, f, &read_ms))) break;
+        if (!frames.Push(ReadFrame(input, f, &read_ms, &read_cpu_ms))) break;
       }
     } catch (...) {
       reader_error = std::current_exception();
@@ -426,6 +454,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   out.resources = std::move(sampler.samples());
   out.interrupted = StopRequested(stop);
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
+  out.read_cpu_ms_per_frame = out.frames_processed ? read_cpu_ms / out.frames_processed : 0;
   out.renders = backend.FinishRenders();
   out.map = std::move(backend.map());
   out.table = std::move(tracking.table());
@@ -437,11 +466,59 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   return out;
 }
 
+// Where a run's time went, per stage (issue 5: the online system's frame rate). In online
+// mode the reader, frontend and backend run on their own threads, so these add up to more
+// than the wall time when the stages overlap.
+void LogStageTimes(const PipelineResult& out) {
+  double frontend_ms = 0, frontend_cpu_ms = 0;
+  for (const FrameSummary& f : out.frontend_frames) {
+    frontend_ms += f.total_ms;
+    frontend_cpu_ms += f.cpu_total_ms;
+  }
+  std::vector<double> backend_ms, backend_cpu_ms;
+  double backend_sum = 0, backend_cpu_sum = 0, prior_sum = 0, integrate_sum = 0,
+         integrate_cpu_sum = 0, render_sum = 0;
+  int warm = 0;
+  for (const WindowStats& w : out.windows) {
+    if (w.backend_ms <= 0) continue;
+    backend_ms.push_back(w.backend_ms);
+    backend_cpu_ms.push_back(w.backend_cpu_ms);
+    backend_sum += w.backend_ms;
+    backend_cpu_sum += w.backend_cpu_ms;
+    prior_sum += w.prior_ms;
+    integrate_sum += w.integrate_ms;
+    integrate_cpu_sum += w.integrate_cpu_ms;
+    render_sum += w.render_ms;
+    warm += w.warm_started ? 1 : 0;
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  const int frames = std::max(out.frames_processed, 1);
+  const int fe_frames = std::max(static_cast<int>(out.frontend_frames.size()), 1);
+  const int windows = std::max(static_cast<int>(backend_ms.size()), 1);
+  auto log = GetLogger("system");
+  log->info("stage times (wall / thread CPU): read {:.1f} / {:.1f} ms per frame; frontend "
+            "{:.1f} / {:.1f} ms per frame; backend {:.1f} / {:.1f} ms per window median, "
+            "{:.1f} / {:.1f} mean, {:.1f} / {:.1f} s in all",
+            out.read_ms_per_frame, out.read_cpu_ms_per_frame, frontend_ms / fe_frames,
+            frontend_cpu_ms / fe_frames, median(backend_ms), median(backend_cpu_ms),
+            backend_sum / windows, backend_cpu_sum / windows, backend_sum / 1000.0,
+            backend_cpu_sum / 1000.0);
+  log->info("backend windows: {} of {} warm-started; per window (mean): prior {:.1f} ms wall, "
+            "map integration {:.1f} / {:.1f} ms wall / CPU, queuing renders {:.1f} ms wall; run "
+            "wall {:.1f} s, {:.2f} frames/s",
+            warm, backend_ms.size(), prior_sum / windows, integrate_sum / windows,
+            integrate_cpu_sum / windows, render_sum / windows, out.total_s, out.total_s > 0 ? frames / out.total_s : 0.0);
+}
+
 }  // namespace
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
-                         const PipelineOptions& options) {
-  if (options.method == "clusterslam") return RunClusterSlam(table, camera, range, options.backend);
+                         const PipelineOptions& options, const WindowPrior* prior) {
+  if (options.method == "clusterslam")
+    return RunClusterSlamWindow(table, camera, range, options.backend, prior);
   // The baselines get the same covariance floor as ClusterSLAM (it floors inside).
   const std::optional<TrackletTable> floored =
       FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
@@ -464,6 +541,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options
     out = RunOnlineThreaded(input, options, stop, progress, backend);
   }
   out.total_s = timer.ElapsedS();
+  LogStageTimes(out);
   return out;
 }
 

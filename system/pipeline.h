@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "backend/backend_result.h"
+#include "backend/window_prior.h"
 #include "core/tracklet_table.h"
 #include "frontend/stereo_frontend.h"
 #include "system/map_state.h"
@@ -25,8 +26,13 @@ namespace cslam {
 /// One backend window of the online system (or the single batch call).
 struct WindowStats {
   FrameRange range;
-  double backend_ms = 0.0;    ///< RunClusterSlam / baseline wall time
+  double backend_ms = 0.0;    ///< RunClusterSlam / baseline wall time, incl. building the prior
+  double prior_ms = 0.0;      ///< of backend_ms: building the window's prior from the map
+  double backend_cpu_ms = 0.0;  ///< CPU time of the backend thread over backend_ms
+  bool warm_started = false;  ///< the backend started from the map's prior
   double integrate_ms = 0.0;  ///< association + stitching
+  double integrate_cpu_ms = 0.0;  ///< CPU time of the backend thread over integrate_ms
+  double render_ms = 0.0;     ///< preparing and queuing the due snapshots / overlays
   int clusters = 0;           ///< moving clusters found in the window
   bool failed = false;        ///< discarded (solver failure, non-finite poses, too few landmarks)
   WindowIntegration integration;
@@ -44,6 +50,7 @@ struct PipelineResult {
   bool interrupted = false;  ///< stopped by a stop request before the end of the input
   double total_s = 0.0;
   double read_ms_per_frame = 0.0;
+  double read_cpu_ms_per_frame = 0.0;  ///< CPU time of the reading thread (image decoding)
   /// Resident memory and time every few frames (resources.csv, render/resources.png).
   std::vector<ResourceSample> resources;
   FrameRenderStats renders;  ///< snapshots and overlays written during the run
@@ -55,9 +62,12 @@ struct PipelineResult {
 /// Called after each frame with (frames done, frames total); for progress bars.
 using ProgressCallback = std::function<void(int, int)>;
 
-/// The backend call of one window (RunBackend unless a test injects a fault).
-using BackendFunction = std::function<BackendResult(const TrackletTable&, const StereoCamera&,
-                                                    FrameRange, const PipelineOptions&)>;
+/// The backend call of one window (RunBackend unless a test injects a fault). The prior is
+/// the map's for online ClusterSLAM windows (null for batch runs, the baselines, the first
+/// window and windows after a tracking break).
+using BackendFunction =
+    std::function<BackendResult(const TrackletTable&, const StereoCamera&, FrameRange,
+                                const PipelineOptions&, const WindowPrior*)>;
 
 /// Runs the system over `input` in options.mode. `stop` (may be null) is polled; when it
 /// becomes true the run winds down and returns what was estimated so far. A window whose
@@ -70,7 +80,9 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options
                            const BackendFunction& backend = {});
 
 /// The backend method named in options over `range` of `table` (no threads of its own).
+/// ClusterSLAM starts from `prior` when it is usable (RunClusterSlamWindow); the baselines
+/// ignore it.
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
-                         const PipelineOptions& options);
+                         const PipelineOptions& options, const WindowPrior* prior = nullptr);
 
 }  // namespace cslam

@@ -147,13 +147,39 @@ TEST(Pipeline, BatchModeGivesEveryFrameAPoseNearTheTruth) {
   EXPECT_LT(max_err, 0.5);
 }
 
+// The accuracy of warm-started windows against cold ones is pinned on ground truth in
+// window_prior_test.cc (a stretch where a cold window clusters well; this small scene is not
+// one); here the plumbing: which windows start from the map, and determinism.
+TEST(Pipeline, OnlineWindowsAfterTheFirstStartFromTheMapDeterministically) {
+  const RunInput in = SmallSyntheticInput();
+  PipelineOptions warm = OnlineOptionsFor(true);
+  PipelineOptions cold = warm;
+  cold.backend.window_prior.enabled = false;
+  const PipelineResult w = RunPipeline(in, warm);
+  const PipelineResult c = RunPipeline(in, cold);
+  ASSERT_EQ(w.windows.size(), 3u);
+  ASSERT_EQ(c.windows.size(), 3u);
+  EXPECT_FALSE(w.windows[0].warm_started);  // nothing in the map yet
+  EXPECT_TRUE(w.windows[1].warm_started);
+  EXPECT_TRUE(w.windows[2].warm_started);
+  for (const WindowStats& s : c.windows) EXPECT_FALSE(s.warm_started);
+  ASSERT_EQ(w.map.num_frames(), 40);
+  const PipelineResult again = RunPipeline(in, warm);
+  ASSERT_EQ(again.map.num_frames(), 40);
+  for (int f = 0; f < 40; ++f)
+    EXPECT_TRUE(testing::PoseNear(*w.map.world_from_cam()[f], *again.map.world_from_cam()[f], 1e-12, 1e-12));
+  EXPECT_EQ(w.map.Landmarks(), again.map.Landmarks());
+  for (int l : w.map.Landmarks()) EXPECT_EQ(w.map.ClusterOf(l), again.map.ClusterOf(l)) << l;
+}
+
 // A backend that fails (throws, or returns non-finite poses) for the windows ending at the
 // given frames and runs the real one otherwise.
 BackendFunction FailingAt(std::vector<int> throw_at, std::vector<int> nan_at) {
-  return [=](const TrackletTable& t, const StereoCamera& c, FrameRange r, const PipelineOptions& o) {
+  return [=](const TrackletTable& t, const StereoCamera& c, FrameRange r, const PipelineOptions& o,
+             const WindowPrior* prior) {
     if (std::find(throw_at.begin(), throw_at.end(), r.end) != throw_at.end())
       throw std::runtime_error("injected solver failure");
-    BackendResult b = RunBackend(t, c, r, o);
+    BackendResult b = RunBackend(t, c, r, o, prior);
     if (std::find(nan_at.begin(), nan_at.end(), r.end) != nan_at.end())
       b.estimate.world_from_cam[1].translation().x() = std::numeric_limits<double>::quiet_NaN();
     return b;
@@ -192,8 +218,8 @@ TEST(Pipeline, AFiniteButAbsurdEstimateIsDiscarded) {
   // The old check (every pose finite) let a diverged solve through: camera steps of 1e20 m.
   const RunInput in = SmallSyntheticInput();
   const BackendFunction jumping = [](const TrackletTable& t, const StereoCamera& c, FrameRange r,
-                                     const PipelineOptions& o) {
-    BackendResult b = RunBackend(t, c, r, o);
+                                     const PipelineOptions& o, const WindowPrior* prior) {
+    BackendResult b = RunBackend(t, c, r, o, prior);
     if (r.end == 40)
       for (size_t f = 5; f < b.estimate.world_from_cam.size(); ++f)
         b.estimate.world_from_cam[f].translation().z() += 1e20;
