@@ -19,8 +19,11 @@ cv::Vec3b BgrForCluster(int cluster);
 /// ColorForCluster scaled to [0, 1] (for OpenGL).
 Eigen::Vector3f ColorForClusterUnit(int cluster);
 
-/// RGB line colour of a trajectory: the camera (cluster < 0) is black, a cluster's trajectory
-/// uses ColorForCluster.
+/// Cluster id of a legend-only trajectory line that stands for clusters not drawn (grey).
+constexpr int kUndrawnClusters = -2;
+
+/// RGB line colour of a trajectory: the camera (cluster -1) is black, kUndrawnClusters grey, a
+/// cluster's trajectory uses ColorForCluster.
 cv::Vec3b TrajectoryColor(int cluster);
 
 /// Number of distinct colours before the moving-cluster palette repeats.

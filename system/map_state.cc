@@ -148,6 +148,13 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
     return a.ratio != b.ratio ? a.ratio > b.ratio : a.window_label < b.window_label;
   });
+  auto log = GetLogger("system");
+  if (log->should_log(spdlog::level::debug))
+    for (const auto& c : candidates)
+      log->debug("map: window {}..{} cluster {} ({} landmarks) vs map cluster {}: {} shared, "
+                 "overlap {:.2f}, known {:.2f}, contained {:.2f}",
+                 begin, window.range.end - 1, c.window_label, members[c.window_label].size(),
+                 c.map_id, c.shared, c.ratio, c.known_ratio, c.contained);
   std::map<int, int> window_to_map;
   std::map<int, bool> map_taken;
   for (const auto& c : candidates) {
@@ -203,6 +210,9 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     const MotionAgreement agreement =
         CompareMotions(c.map_id == 0 ? StaticTrajectory(win) : clusters_[c.map_id].world_from_cluster,
                        win, points, world_from_cam_);
+    log->debug("map: window cluster {} vs map cluster {}: motion over {} frames, RMS {:.3f} m, "
+               "relative {:.4f}", c.window_label, c.map_id, agreement.frames, agreement.rms_m,
+               agreement.relative_rms());
     if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
       continue;
     if (c.map_id == 0) {

@@ -5,11 +5,13 @@
 #include <string>
 
 #include "core/logging.h"
+#include "system/cluster_colors.h"
 #include "system/trajectory_plot.h"
 
 namespace cslam {
 
-std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs) {
+std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
+                                                     const TrajectoryPlotOptions& options) {
   std::vector<RenderTrajectory> trajs;
   if (!outputs.gt_camera.empty()) {
     RenderTrajectory gt{"camera (ground truth)", {}, -1, true};
@@ -42,8 +44,23 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs) 
     ++n;
   }
   auto log = GetLogger("system");
+  // Biggest first, so the legend names the objects before the fragments.
+  std::vector<std::pair<int, int>> order;  // (landmarks, id)
+  int too_small = 0;
   for (const auto& [id, c] : outputs.clusters) {
+    const auto it = centroids.find(id);
+    const int n = it == centroids.end() ? 0 : it->second.second;
     if (c.size() < 2) continue;
+    if (static_cast<int>(c.size()) < options.min_poses || n < options.min_landmarks) {
+      ++too_small;
+      continue;
+    }
+    order.emplace_back(n, id);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [n, id] : order) {
+    const Trajectory& c = outputs.clusters.at(id);
     RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     if (const auto it = centroids.find(id); it != centroids.end() && it->second.second > 0)
@@ -62,11 +79,17 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs) 
     }
     trajs.push_back(t);
   }
+  if (too_small > 0)
+    trajs.push_back({"+ " + std::to_string(too_small) + " small clusters not drawn (< " +
+                         std::to_string(options.min_landmarks) + " points or < " +
+                         std::to_string(options.min_poses) + " poses)",
+                     {}, kUndrawnClusters, false});
   return trajs;
 }
 
-cv::Mat RenderRunTrajectoryPlot(const RunOutputs& outputs, int width, int height) {
-  return RenderTrajectoryTopView(RunTrajectoryPlotLines(outputs), width, height);
+cv::Mat RenderRunTrajectoryPlot(const RunOutputs& outputs, int width, int height,
+                                const TrajectoryPlotOptions& options) {
+  return RenderTrajectoryTopView(RunTrajectoryPlotLines(outputs, options), width, height);
 }
 
 }  // namespace cslam

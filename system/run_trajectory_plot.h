@@ -10,13 +10,25 @@
 
 namespace cslam {
 
+/// Which clusters the plot draws. An online map of a real drive holds dozens of short-lived
+/// fragments whose lines hide the few objects that matter; every cluster stays in the output
+/// files, the plot only counts the small ones in its legend.
+struct TrajectoryPlotOptions {
+  int min_poses = 10;      ///< a cluster needs this many poses to be drawn (>= 2: a line)
+  int min_landmarks = 15;  ///< ... and this many landmarks in landmarks.ply (0: any)
+};
+
 /// The lines of the plot: the ground truth (dashed, when there is one), the camera, and each
-/// cluster with at least two poses as the path of its landmarks' centroid. A cluster straying
-/// more than 100 m beyond the camera's own extent is left out with a warning in the log.
-std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs);
+/// cluster that passes `options` as the path of its landmarks' centroid, biggest cluster
+/// first. A cluster straying more than 100 m beyond the camera's own extent is left out with a
+/// warning in the log. When clusters were too small to draw, a last line without positions
+/// carries the legend entry that counts them.
+std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
+                                                     const TrajectoryPlotOptions& options = {});
 
 /// RenderTrajectoryTopView of RunTrajectoryPlotLines. Throws cslam::Error when offscreen
 /// rendering is unavailable.
-cv::Mat RenderRunTrajectoryPlot(const RunOutputs& outputs, int width = 1200, int height = 900);
+cv::Mat RenderRunTrajectoryPlot(const RunOutputs& outputs, int width = 1200, int height = 900,
+                                const TrajectoryPlotOptions& options = {});
 
 }  // namespace cslam

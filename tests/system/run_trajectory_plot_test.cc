@@ -33,8 +33,11 @@ RunOutputs Outputs() {
   return o;
 }
 
+/// Draws every cluster with a line: the tests below pin what is drawn and how, not the filter.
+constexpr TrajectoryPlotOptions kAll{.min_poses = 2, .min_landmarks = 0};
+
 TEST(RunTrajectoryPlot, GroundTruthDashedThenCameraThenClusters) {
-  const auto lines = RunTrajectoryPlotLines(Outputs());
+  const auto lines = RunTrajectoryPlotLines(Outputs(), kAll);
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_TRUE(lines[0].dashed);
   EXPECT_EQ(lines[0].cluster, -1);
@@ -55,7 +58,7 @@ TEST(RunTrajectoryPlot, ClusterIsDrawnAsItsLandmarksCentroidFromTheirWorldPositi
   o.landmarks.push_back({1, 2, 3, 5, c.poses[2] * Eigen::Vector3d(1, 0, 0)});
   o.landmarks.push_back({2, 2, 4, 12, c.poses.back() * Eigen::Vector3d(3, 0, 2)});
   o.landmarks.push_back({3, 0, 0, 9, Eigen::Vector3d(50, 0, 50)});  // static: not in any centroid
-  const auto lines = RunTrajectoryPlotLines(o);
+  const auto lines = RunTrajectoryPlotLines(o, kAll);
   ASSERT_EQ(lines.size(), 3u);
   ASSERT_EQ(lines[2].positions.size(), c.size());
   for (size_t k = 0; k < c.size(); ++k)
@@ -68,7 +71,7 @@ TEST(RunTrajectoryPlot, ClusterFarBeyondTheCameraIsLeftOut) {
   Trajectory& far = o.clusters[4];
   far.frames = {0, 1};
   far.poses = {At(0.0, 5.0), At(0.0, 5000.0)};
-  const auto lines = RunTrajectoryPlotLines(o);
+  const auto lines = RunTrajectoryPlotLines(o, kAll);
   for (const auto& l : lines) EXPECT_NE(l.cluster, 4);
   EXPECT_EQ(lines.size(), 3u);
 }
@@ -77,20 +80,49 @@ TEST(RunTrajectoryPlot, ClusterWithOnePoseIsNotALine) {
   RunOutputs o = Outputs();
   o.clusters[5].frames = {2};
   o.clusters[5].poses = {At(1.0, 1.0)};
-  for (const auto& l : RunTrajectoryPlotLines(o)) EXPECT_NE(l.cluster, 5);
+  for (const auto& l : RunTrajectoryPlotLines(o, kAll)) EXPECT_NE(l.cluster, 5);
 }
 
 TEST(RunTrajectoryPlot, PictureShowsTheClusterInItsColour) {
   const RunOutputs o = Outputs();
-  const cv::Mat image = RenderRunTrajectoryPlot(o, 800, 600);
+  const cv::Mat image = RenderRunTrajectoryPlot(o, 800, 600, kAll);
   testing::MaybeSave(image, "run_trajectory_plot.png");
   ASSERT_EQ(image.size(), cv::Size(800, 600));
-  const TopViewLayout layout = ComputeTopViewLayout(RunTrajectoryPlotLines(o), 800, 600);
+  const TopViewLayout layout = ComputeTopViewLayout(RunTrajectoryPlotLines(o, kAll), 800, 600);
   // Without landmarks the centroid is the cluster frame's origin.
   EXPECT_TRUE(testing::ColourNear(image, layout.ToPixel(o.clusters.at(2).poses[3].translation()),
                                   BgrForCluster(2), 1, 60));
   EXPECT_TRUE(testing::ColourNear(image, layout.ToPixel(Eigen::Vector3d(0, 0, 12)), {0, 0, 0}, 1, 70));
   EXPECT_EQ(testing::CountColour(image, BgrForCluster(5), 30), 0);
+}
+
+/// Cluster `id` with `poses` poses along x = x0 and `landmarks` landmarks at its origin.
+void AddCluster(RunOutputs* o, int id, int poses, int landmarks, double x0) {
+  Trajectory& c = o->clusters[id];
+  for (int f = 0; f < poses; ++f) {
+    c.frames.push_back(f);
+    c.poses.push_back(At(x0, 1.0 * f));
+  }
+  for (int k = 0; k < landmarks; ++k)
+    o->landmarks.push_back({1000 * id + k, id, 0, poses - 1, c.poses.back().translation()});
+}
+
+TEST(RunTrajectoryPlot, SmallOrShortClustersAreCountedNotDrawnAndTheBiggestComesFirst) {
+  RunOutputs o = Outputs();  // cluster 2: 7 poses, no landmarks
+  AddCluster(&o, 3, 12, 20, 3.0);
+  AddCluster(&o, 4, 12, 40, 4.0);
+  AddCluster(&o, 6, 12, 5, 6.0);  // too few landmarks
+  AddCluster(&o, 7, 4, 50, 7.0);  // too few poses
+  const auto lines = RunTrajectoryPlotLines(o, {.min_poses = 10, .min_landmarks = 15});
+  ASSERT_EQ(lines.size(), 5u);
+  EXPECT_EQ(lines[2].cluster, 4);
+  EXPECT_EQ(lines[3].cluster, 3);
+  EXPECT_EQ(lines[4].cluster, kUndrawnClusters);
+  EXPECT_TRUE(lines[4].positions.empty());
+  EXPECT_EQ(lines[4].label, "+ 3 small clusters not drawn (< 15 points or < 10 poses)");
+  const cv::Mat image = RenderRunTrajectoryPlot(o, 800, 600, {.min_poses = 10, .min_landmarks = 15});
+  EXPECT_GT(testing::CountColour(image, BgrForCluster(4), 30), 0);
+  EXPECT_EQ(testing::CountColour(image, BgrForCluster(7), 30), 0);
 }
 
 TEST(PlacingPoseIndex, LastFrameWhenTheClusterHasAPoseThereElseItsLastPose) {
