@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <glog/logging.h>
 #include <cstdio>
 #include <exception>
 #include <vector>
@@ -40,6 +41,11 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("app"));
   spdlog::set_level(spdlog::level::from_str(log_level));
   spdlog::set_pattern("[%H:%M:%S.%e] [%n] [%^%l%$] %v");
+  // Ceres reports through glog, and its warnings ("linear solver failure" when LM meets a
+  // rank-deficient step and retries with more damping) are routine in cluster solves: a user
+  // sees them only when asking for the debug log.
+  FLAGS_minloglevel = spdlog::get_level() <= spdlog::level::debug ? google::GLOG_INFO
+                                                                   : google::GLOG_ERROR;
 
   for (const auto& cmd : commands) {
     if (!cmd.sub->parsed()) continue;
