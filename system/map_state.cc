@@ -36,6 +36,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("motion_tolerance", &motion_tolerance);
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
+  r.Read("stitch_by_motion", &stitch_by_motion);
   r.Finish();
 }
 
@@ -249,7 +250,18 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
           dst.push_back(landmarks_[l].p_in_cluster);
         }
         const MapCluster& mc = clusters_[it->second];
-        if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment) {
+        std::optional<MotionAgreement> stitch;
+        if (options_.stitch_by_motion) {
+          std::vector<Eigen::Vector3d> points;
+          for (int l : ids) points.push_back(window.landmark_in_cluster[l]);
+          stitch = CompareMotions(mc.world_from_cluster, window_trajectory(*motion), points,
+                                  world_from_cam_);
+          if (stitch->frames < options_.motion_min_frames) stitch.reset();
+        }
+        if (stitch) {
+          mapcluster_from_wincluster = stitch->a_from_b;
+          aligned = true;
+        } else if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment) {
           mapcluster_from_wincluster = AlignUmeyama(src, dst, false).rigid;
           aligned = true;
         } else {

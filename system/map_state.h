@@ -47,6 +47,12 @@ struct MapStateOptions {
   /// motion_min_frames shared frames (the younger id goes, its landmarks join the older one),
   /// and fold clusters that hold still into the static world (id 0).
   bool merge_agreeing_clusters = true;
+  /// How an associated window cluster's frame is aligned to the map cluster's: true, by the
+  /// best constant offset between the two trajectories over their shared frames (when they
+  /// share motion_min_frames), so the stitched trajectory continues the map's without a jump;
+  /// false, by Umeyama on the shared landmarks' positions, whose depth noise at 30 m made the
+  /// trajectory jump by up to a metre at window boundaries.
+  bool stitch_by_motion = true;
   /// A window cluster that continues no map cluster starts a new one only with at least this
   /// many landmarks; smaller ones leave their landmarks as the map had them (spec §7: dropped
   /// by history). 1 creates every cluster.
