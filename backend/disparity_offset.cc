@@ -85,11 +85,15 @@ struct Item {
 class OffsetProblem {
  public:
   OffsetProblem(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
-                const std::vector<Pose>& world_from_cam, const DisparityOffsetOptions& options)
+                const std::vector<Pose>& world_from_cam, const DisparityOffsetOptions& options,
+                const std::vector<int>& landmark_cluster)
       : camera_(camera), options_(options) {
     poses_.resize(range.size());
     for (int i = 0; i < range.size(); ++i) poses_[i] = PoseBlock::From(world_from_cam[i].inverse());
     for (int l = 0; l < table.num_landmarks(); ++l) {
+      if (options.exclude_moving && l < static_cast<int>(landmark_cluster.size()) &&
+          landmark_cluster[l] > 0)
+        continue;
       const auto obs = table.ObservationsOf(l, range);
       if (static_cast<int>(obs.size()) < options.min_track_length) continue;
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -349,6 +353,7 @@ void DisparityOffsetOptions::Load(OptionsReader& r) {
   r.Read("max_iterations", &max_iterations);
   r.Read("max_offset_px", &max_offset_px);
   r.Read("outlier_chi2", &outlier_chi2);
+  r.Read("exclude_moving", &exclude_moving);
 }
 
 double DisparityOffset::Significance() const {
@@ -379,12 +384,13 @@ void AdjustAndReject(OffsetProblem* problem, const DisparityOffsetOptions& optio
 
 DisparityOffset EstimateDisparityOffset(const TrackletTable& table, const StereoCamera& camera,
                                         FrameRange range, const std::vector<Pose>& world_from_cam,
-                                        const DisparityOffsetOptions& options) {
+                                        const DisparityOffsetOptions& options,
+                                        const std::vector<int>& landmark_cluster) {
   const Timer timer;
   DisparityOffset out;
   CSLAM_CHECK(static_cast<int>(world_from_cam.size()) == range.size(),
               "the disparity offset needs a camera pose per frame of its range");
-  OffsetProblem problem(table, camera, range, world_from_cam, options);
+  OffsetProblem problem(table, camera, range, world_from_cam, options, landmark_cluster);
   if (problem.empty() || problem.frames() < 2) {
     out.reason = "fewer than two frames with static landmarks";
     return out;
@@ -433,10 +439,11 @@ DisparityOffset EstimateDisparityOffset(const TrackletTable& table, const Stereo
 std::vector<double> ProfileDisparityOffset(const TrackletTable& table, const StereoCamera& camera,
                                            FrameRange range, const std::vector<Pose>& world_from_cam,
                                            const DisparityOffsetOptions& options,
-                                           const std::vector<double>& offsets) {
+                                           const std::vector<double>& offsets,
+                                           const std::vector<int>& landmark_cluster) {
   std::vector<double> costs(offsets.size(), NAN);
   if (static_cast<int>(world_from_cam.size()) != range.size()) return costs;
-  OffsetProblem base(table, camera, range, world_from_cam, options);
+  OffsetProblem base(table, camera, range, world_from_cam, options, landmark_cluster);
   if (base.empty()) return costs;
   int iterations = 0;
   AdjustAndReject(&base, options, &iterations);

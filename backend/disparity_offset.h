@@ -40,6 +40,12 @@ struct DisparityOffsetOptions {
   double outlier_chi2 = 50.0;
   /// Largest |δ| the solve may report, px: beyond it the estimate is refused (usable = false).
   double max_offset_px = 2.0;
+  /// Leave out the landmarks the motion's labelling put in a moving cluster (label > 0);
+  /// static and unlabelled ones stay in. Why: a point moving along the viewing direction
+  /// looks like a static point whose stereo depth disagrees with its flow — what δ explains —
+  /// and is not always far enough off the camera's motion for the rejection [measured,
+  /// docs/benchmarks.md "Disparity offset self-calibration"].
+  bool exclude_moving = true;
 
   void Check() const;
   /// Keys: the snake_case field names.
@@ -76,7 +82,8 @@ struct DisparityOffset {
 /// (docs/benchmarks.md). Moving points fail the rejection as outliers.
 DisparityOffset EstimateDisparityOffset(const TrackletTable& table, const StereoCamera& camera,
                                         FrameRange range, const std::vector<Pose>& world_from_cam,
-                                        const DisparityOffsetOptions& options);
+                                        const DisparityOffsetOptions& options,
+                                        const std::vector<int>& landmark_cluster = {});
 
 /// The profile of the same robust cost: after the same outlier rejection, for each δ of
 /// `offsets`, held fixed, the poses and points adjusted; returns ½Σρ per offset (NaN when there
@@ -84,7 +91,8 @@ DisparityOffset EstimateDisparityOffset(const TrackletTable& table, const Stereo
 std::vector<double> ProfileDisparityOffset(const TrackletTable& table, const StereoCamera& camera,
                                            FrameRange range, const std::vector<Pose>& world_from_cam,
                                            const DisparityOffsetOptions& options,
-                                           const std::vector<double>& offsets);
+                                           const std::vector<double>& offsets,
+                                           const std::vector<int>& landmark_cluster = {});
 
 /// A copy of `table`'s held observations (same landmark ids) with every right column
 /// corrected by δ: uR − offset_px, the disparity + offset_px.

@@ -74,7 +74,7 @@ DisparityOffsetCalibration DisparityOffsetCalibrator::Calibrate(
     record.decision = "no camera motion over the calibration frames";
   } else {
     record.estimate = EstimateDisparityOffset(table, camera, record.frames, m.world_from_cam,
-                                              options_.disparity_offset);
+                                              options_.disparity_offset, m.landmark_cluster);
     const DisparityOffset& d = record.estimate;
     const double needed = std::max(options_.disparity_offset_min_sigmas * d.sigma_px,
                                    options_.disparity_offset_min_px);
