@@ -170,7 +170,7 @@ class OffsetProblem {
   /// Variance of δ: the δ entry of the inverse Gauss-Newton Hessian of the robust cost at the
   /// current state, with Ceres' weighting of a robust residual (ρ′ JᵀJ). The points are
   /// eliminated point by point into the dense system of the poses and δ, whose inverse
-  /// gives it [ours, measured]: Ceres' sparse-QR covariance took 3.4 s of a 9 s estimate on
+  /// gives it [ours]: Ceres' sparse-QR covariance was the slow part on
   /// 30 frames of KITTI. NaN when the system is singular.
   double OffsetVariance() const {
     int gauge = -1;
@@ -370,10 +370,9 @@ void AdjustAndReject(OffsetProblem* problem, const DisparityOffsetOptions& optio
                      int* iterations) {
   // Points that do not follow the initial camera motion at all (moving ones, mismatches)
   // first: left in, they drift for tens of iterations before the kernel has silenced them.
-  // Each point is placed first, the motion and δ held [ours, measured]: judged at their mean
-  // back-projections, the far points — the ones that tell δ — failed the gate most, and δ
-  // came out biased towards the start value (rendered outdoor, +0.20 px injected, gate 50:
-  // −0.184 px instead of −0.1995 px with no rejection; docs/benchmarks.md).
+  // Each point is placed first, the motion and δ held: judged at their mean back-projections,
+  // the far points — the ones that tell δ — fail the gate most (an earlier probe on this
+  // branch, not re-measured).
   *iterations += static_cast<int>(problem->Solve(true, true).iterations.size());
   problem->Reject(options.outlier_chi2);
   *iterations += static_cast<int>(problem->Solve(false).iterations.size());

@@ -75,11 +75,11 @@ struct DisparityOffset {
 /// δ over `range`: every landmark with at least min_track_length observations in it and the
 /// camera poses `world_from_cam` ([frame − range.begin]), adjusted together with δ (the first
 /// pose held: the gauge; the scale is the baseline's). Points start at the mean of their
-/// back-projections. Every landmark, not only those a backend labelled static [ours,
-/// measured]: a labelling made from uncorrected disparities keeps the points that agree with
-/// the wrong δ — on rendered outdoor images with +0.20 px injected, the ClusterSLAM static
-/// cluster recovered −0.11 px, every landmark with outlier rejection −0.197 px
-/// (docs/benchmarks.md). Moving points fail the rejection as outliers.
+/// back-projections and are placed with the motion held before the first outlier rejection.
+/// Not only the landmarks a backend labelled static: a labelling made from uncorrected
+/// disparities keeps the points that agree with the wrong δ (an earlier probe on this branch,
+/// not re-measured). With options.exclude_moving, the landmarks
+/// `landmark_cluster` ([landmark id], may be empty) puts in a moving cluster (> 0) stay out.
 DisparityOffset EstimateDisparityOffset(const TrackletTable& table, const StereoCamera& camera,
                                         FrameRange range, const std::vector<Pose>& world_from_cam,
                                         const DisparityOffsetOptions& options,
