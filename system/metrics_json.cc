@@ -92,6 +92,11 @@ nlohmann::json ToJson(const RunMetrics& m) {
               {"failed_windows", m.run.failed_windows},
               {"tracking_lost", m.run.tracking_lost},
               {"gaps", m.run.gaps}};
+  j["calibration"] = {
+      {"disparity_offset_px", Value(m.calibration.disparity_offset_px)},
+      {"disparity_offset_sigma_px", Value(m.calibration.disparity_offset_sigma_px)},
+      {"disparity_offset_applied_px", Value(m.calibration.disparity_offset_applied_px)},
+      {"disparity_offset_frames", Value(m.calibration.disparity_offset_frames)}};
   j["conventions"] = {
       {"ate",
        "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each "
@@ -175,6 +180,11 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
       m.run.tracking_lost = r.value("tracking_lost", std::vector<int>{});
       m.run.gaps = r.value("gaps", std::vector<int>{});
     }
+    const json& ca = Child(j, "calibration");
+    Read(ca, "disparity_offset_px", m.calibration.disparity_offset_px);
+    Read(ca, "disparity_offset_sigma_px", m.calibration.disparity_offset_sigma_px);
+    Read(ca, "disparity_offset_applied_px", m.calibration.disparity_offset_applied_px);
+    Read(ca, "disparity_offset_frames", m.calibration.disparity_offset_frames);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, std::string("unexpected value type: ") + e.what());
   }

@@ -54,6 +54,14 @@ struct RunMetrics {
     std::vector<int> gaps;               ///< frames where the trajectory was chained without overlap
   };
 
+  /// The run's self-calibration (calibration.estimate_disparity_offset); empty when off.
+  struct Calibration {
+    std::optional<double> disparity_offset_px;        ///< δ estimated
+    std::optional<double> disparity_offset_sigma_px;  ///< its standard deviation
+    std::optional<double> disparity_offset_applied_px;  ///< δ applied (0: not significant)
+    std::optional<int> disparity_offset_frames;       ///< frames it was estimated over
+  };
+
   std::string sequence;
   std::optional<int> frames;
   std::string method;
@@ -64,6 +72,7 @@ struct RunMetrics {
   std::optional<double> log_chi2;
   Timing timing;
   Status run;
+  Calibration calibration;
 };
 
 /// The JSON document: the keys above, plus "conventions" naming each metric's statistic,

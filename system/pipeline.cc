@@ -533,13 +533,22 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options
                            const BackendFunction& backend) {
   Timer timer;
   PipelineResult out;
+  // The self-calibration wraps the backend call (system/disparity_offset_calibration.h).
+  DisparityOffsetCalibrator calibrator(options.calibration, backend ? backend : BackendFunction(RunBackend));
+  const BackendFunction calibrated = [&calibrator](const TrackletTable& t, const StereoCamera& c,
+                                                   FrameRange r, const PipelineOptions& o,
+                                                   const WindowPrior* prior) {
+    return calibrator(t, c, r, o, prior);
+  };
+  const BackendFunction& call = options.calibration.estimate_disparity_offset ? calibrated : backend;
   if (options.mode == "batch") {
-    out = RunBatch(input, options, stop, progress, backend);
+    out = RunBatch(input, options, stop, progress, call);
   } else if (options.online.sequential) {
-    out = RunOnlineSequential(input, options, stop, progress, backend);
+    out = RunOnlineSequential(input, options, stop, progress, call);
   } else {
-    out = RunOnlineThreaded(input, options, stop, progress, backend);
+    out = RunOnlineThreaded(input, options, stop, progress, call);
   }
+  out.disparity_offset = calibrator.Record();
   out.total_s = timer.ElapsedS();
   LogStageTimes(out);
   return out;

@@ -54,6 +54,8 @@ struct PipelineResult {
   /// Resident memory and time every few frames (resources.csv, render/resources.png).
   std::vector<ResourceSample> resources;
   FrameRenderStats renders;  ///< snapshots and overlays written during the run
+  /// calibration.estimate_disparity_offset: what the self-calibration found and applied.
+  std::optional<DisparityOffsetCalibration> disparity_offset;
   /// A failure part-way (e.g. a corrupt image): the run stopped there; everything above is
   /// what was estimated before it. The caller writes the outputs, then rethrows.
   std::exception_ptr error;

@@ -64,6 +64,7 @@ void PipelineOptions::Check() const {
   online.Check();
   map.Check();
   sanity.Check();
+  calibration.Check();
   output.Check();
 }
 
@@ -103,6 +104,8 @@ void PipelineOptions::Load(OptionsReader& r) {
   map.Load(mp);
   auto sa = r.Section("sanity");
   sanity.Load(sa);
+  auto ca = r.Section("calibration");
+  calibration.Load(ca);
   auto outp = r.Section("output");
   output.Load(outp);
   r.Finish();

@@ -1,6 +1,7 @@
 #pragma once
 // Every option of a `cslam run`, in one tree that mirrors the YAML configs in configs/:
-//   preset, method, ablation, mode, input{}, frontend{}, backend{}, online{}, map{}, output{}.
+//   preset, method, ablation, mode, input{}, frontend{}, backend{}, online{}, map{}, sanity{},
+//   calibration{}, output{}.
 // Defaults come from the preset (indoor / outdoor backend parameters), then the YAML file,
 // then command-line flags; the effective tree is saved beside the outputs (config.yaml).
 #include <string>
@@ -8,6 +9,7 @@
 #include "backend/clusterslam.h"
 #include "core/options_reader.h"
 #include "frontend/stereo_frontend.h"
+#include "system/disparity_offset_calibration.h"
 #include "system/estimate_sanity.h"
 #include "system/map_state.h"
 #include "system/run_input.h"
@@ -55,6 +57,7 @@ struct PipelineOptions {
   OnlineOptions online;
   MapStateOptions map;
   EstimateSanityOptions sanity;  ///< when a backend window's estimate is refused
+  CalibrationOptions calibration;  ///< self-calibration of the stereo pair (disparity offset)
   OutputOptions output;
   /// Set by the command, not read from YAML: the run's output folder, where snapshots and
   /// overlays are written during the run ("" = none are rendered).

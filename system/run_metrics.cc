@@ -253,6 +253,14 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   for (const auto& f : result.frontend_frames)
     if (f.tracking_lost) m.run.tracking_lost.push_back(f.frame);
   m.run.gaps = result.map.gaps();
+  if (const auto& d = result.disparity_offset) {
+    m.calibration.disparity_offset_frames = d->frames.size();
+    if (d->estimate.usable) {
+      m.calibration.disparity_offset_px = d->estimate.offset_px;
+      m.calibration.disparity_offset_sigma_px = d->estimate.sigma_px;
+    }
+    m.calibration.disparity_offset_applied_px = d->applied_px;
+  }
   return m;
 }
 

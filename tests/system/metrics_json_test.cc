@@ -63,6 +63,10 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   m.landmarks.count = 3700;
   m.log_chi2 = 7.15;
   m.timing.hz = 12.5;
+  m.calibration.disparity_offset_px = 0.172;
+  m.calibration.disparity_offset_sigma_px = 0.008;
+  m.calibration.disparity_offset_applied_px = 0.172;
+  m.calibration.disparity_offset_frames = 30;
 
   const auto path = std::filesystem::temp_directory_path() /
                     ("cslam_metrics_" + std::to_string(::getpid())) / "metrics.json";
@@ -77,6 +81,9 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   EXPECT_FALSE(r.objects.per_object[1].cluster.has_value());
   EXPECT_FALSE(r.objects.per_object[1].found);
   EXPECT_EQ(r.landmarks.count, 3700);
+  EXPECT_EQ(r.calibration.disparity_offset_applied_px, 0.172);
+  EXPECT_EQ(r.calibration.disparity_offset_frames, 30);
+  EXPECT_DOUBLE_EQ(j["calibration"]["disparity_offset_sigma_px"].get<double>(), 0.008);
 }
 
 TEST(MetricsJson, RunStatusRecordsInterruptionsFailuresAndGaps) {

@@ -1,0 +1,90 @@
+#pragma once
+// The run's self-calibration of the stereo pair's disparity offset (calibration.* options,
+// docs/usage.md): before the backend's estimates count, δ is estimated from the first
+// frames (backend/disparity_offset.h) and, when the data pin it down, every observation the
+// backend is given is corrected by it.
+//
+// It sits between the pipeline and its backend function, so both modes get the same
+// treatment without the pipeline knowing: the first backend call (the first online window,
+// or the batch call) first runs the backend over the calibration frames — the online window
+// itself when it is that long — estimates δ against that motion, and, if δ is applied, runs
+// on the corrected observations. Every later call is corrected by the same δ. The frontend's
+// table itself is left as measured (its outputs, overlays, the sanity check's χ² by 0.1 px).
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "backend/backend_result.h"
+#include "backend/disparity_offset.h"
+#include "backend/window_prior.h"
+#include "core/options_reader.h"
+#include "core/stereo_camera.h"
+#include "core/tracklet_table.h"
+
+namespace cslam {
+
+struct PipelineOptions;
+
+/// Options of the self-calibration (YAML section `calibration`).
+struct CalibrationOptions {
+  /// Estimate the disparity offset at the start of the run and apply it when significant.
+  bool estimate_disparity_offset = false;
+  /// Frames from the start of the first backend call the estimate uses (the first online
+  /// window is 30; batch runs use the same frames, so both modes find the same δ).
+  int disparity_offset_frames = 30;
+  /// δ is applied only when |δ| ≥ this many σ ...
+  double disparity_offset_min_sigmas = 3.0;
+  /// ... and |δ| ≥ this, px: the matcher's own systematic error on rendered images with exact
+  /// ground truth is ±0.02–0.03 px (docs/frontend.md), so a smaller δ is not a calibration
+  /// error one can tell from it.
+  double disparity_offset_min_px = 0.03;
+  /// The estimator's own options (section calibration.disparity_offset).
+  DisparityOffsetOptions disparity_offset;
+
+  /// Throws ConfigError naming the key (calibration.…) that breaks its rule.
+  void Check() const;
+  void Load(OptionsReader& reader);
+};
+
+/// What the calibration did; written to metrics.json (`calibration`) and the log.
+struct DisparityOffsetCalibration {
+  FrameRange frames;          ///< the frames δ was estimated over
+  DisparityOffset estimate;   ///< δ, σ and the solve's counts
+  bool applied = false;       ///< the backend was given corrected observations
+  double applied_px = 0.0;    ///< δ applied (0 when not)
+  std::string decision;       ///< why it was or was not applied
+  double seconds = 0.0;       ///< wall time of the extra backend call and the estimate
+};
+
+/// The pipeline's backend function, wrapped (same signature as BackendFunction).
+using CalibratedBackend =
+    std::function<BackendResult(const TrackletTable&, const StereoCamera&, FrameRange,
+                                const PipelineOptions&, const WindowPrior*)>;
+
+/// Wraps `inner` (the run's backend call) with the calibration of options.calibration.
+/// Calls come from one thread at a time (the backend stage); Record() is read after the run.
+class DisparityOffsetCalibrator {
+ public:
+  DisparityOffsetCalibrator(const CalibrationOptions& options, CalibratedBackend inner);
+
+  /// The first call estimates δ (see the file comment); every call runs `inner` on the
+  /// observations corrected by the δ applied.
+  BackendResult operator()(const TrackletTable& table, const StereoCamera& camera,
+                           FrameRange range, const PipelineOptions& options,
+                           const WindowPrior* prior = nullptr);
+
+  /// What the first call decided; empty before it.
+  const std::optional<DisparityOffsetCalibration>& Record() const { return record_; }
+
+ private:
+  DisparityOffsetCalibration Calibrate(const TrackletTable& table, const StereoCamera& camera,
+                                       FrameRange range, const PipelineOptions& options,
+                                       const WindowPrior* prior,
+                                       std::optional<BackendResult>* reusable);
+
+  const CalibrationOptions& options_;
+  CalibratedBackend inner_;
+  std::optional<DisparityOffsetCalibration> record_;
+};
+
+}  // namespace cslam
