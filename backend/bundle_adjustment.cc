@@ -421,9 +421,11 @@ class Adjuster {
  public:
   Adjuster(const TrackletTable& table, const StereoCamera& camera,
            const BundleAdjustmentOptions& options, MotionEstimate* estimate,
-           const std::vector<bool>* held_out)
+           const std::vector<bool>* held_out, const std::vector<bool>* fixed_cameras)
       : table_(table), camera_(camera), options_(options), est_(*estimate) {
     if (held_out) held_out_ = *held_out;
+    if (fixed_cameras) fixed_cameras_ = *fixed_cameras;
+    fixed_cameras_.resize(est_.world_from_cam.size(), false);
     held_out_.resize(est_.landmark_in_cluster.size(), false);
     const FrameRange range = est_.range;
     for (const Pose& world_from_cam : est_.world_from_cam)
@@ -494,8 +496,14 @@ class Adjuster {
     ObservationCount counts;
     AddStatic(&solve, &counts);
     HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
+    HoldFixedCameras(&solve);
     if (!cam_from_world_.empty()) solve.HoldConstant(&cam_from_world_[0]);
     solve.Run(summary);
+  }
+
+  void HoldFixedCameras(Solve* solve) {
+    for (size_t f = 0; f < cam_from_world_.size(); ++f)
+      if (fixed_cameras_[f]) solve->HoldConstant(&cam_from_world_[f]);
   }
 
   void AddStatic(Solve* solve, ObservationCount* counts) {
@@ -537,6 +545,7 @@ class Adjuster {
       HoldWeakPoses(cs.world_from_cluster, counts, options_.min_observations_per_pose, &solve);
     }
     HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
+    HoldFixedCameras(&solve);
     if (!cam_from_world_.empty()) solve.HoldConstant(&cam_from_world_[0]);
     solve.Run(summary);
     for (ClusterState& cs : clusters_)
@@ -549,8 +558,10 @@ class Adjuster {
 
   /// Step (3): P^q_t = P^c_t T^{cq}_t, and the refined values back into the estimate.
   void WriteBack() {
+    // Fixed poses are not written back: the quaternion round trip would perturb them in the
+    // last bits, and the caller relies on them being exactly the map's.
     for (size_t f = 0; f < cam_from_world_.size(); ++f)
-      est_.world_from_cam[f] = cam_from_world_[f].ToPose().inverse();
+      if (!fixed_cameras_[f]) est_.world_from_cam[f] = cam_from_world_[f].ToPose().inverse();
     for (size_t i = 0; i < points_.size(); ++i)
       if (Usable(static_cast<int>(i)))
         est_.landmark_in_cluster[i] = Eigen::Vector3d(points_[i][0], points_[i][1], points_[i][2]);
@@ -606,19 +617,22 @@ class Adjuster {
   std::vector<ClusterState> clusters_;
   std::map<int, int> cluster_of_label_;
   std::vector<bool> held_out_;  // [landmark id]
+  std::vector<bool> fixed_cameras_;  // [frame - range.begin]
 };
 
 }  // namespace
 
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
-                                     MotionEstimate* estimate, const std::vector<bool>* held_out) {
+                                     MotionEstimate* estimate, const std::vector<bool>* held_out,
+                                     const std::vector<bool>* fixed_cameras) {
   CSLAM_CHECK(static_cast<int>(estimate->world_from_cam.size()) == estimate->range.size(),
               "AdjustBundle: world_from_cam must have one pose per frame of the range");
   CSLAM_CHECK(estimate->landmark_cluster.size() == estimate->landmark_in_cluster.size(),
               "AdjustBundle: landmark_cluster and landmark_in_cluster must be parallel");
   const double initial = EvaluateChi2(table, camera, estimate);
-  BundleAdjustmentSummary summary = Adjuster(table, camera, options, estimate, held_out).Run();
+  BundleAdjustmentSummary summary =
+      Adjuster(table, camera, options, estimate, held_out, fixed_cameras).Run();
   summary.initial_chi2 = initial;
   summary.final_chi2 = EvaluateChi2(table, camera, estimate);
   summary.num_residuals = estimate->num_residuals;

@@ -50,6 +50,7 @@ void WindowPriorOptions::Load(OptionsReader& reader) {
   reader.Read("ba_iterations", &ba_iterations);
   reader.Read("adjust_prior", &adjust_prior);
   reader.Read("keep_moving_labels", &keep_moving_labels);
+  reader.Read("fix_known_poses", &fix_known_poses);
   reader.Read("min_known_frames", &min_known_frames);
   reader.Read("min_known_landmarks", &min_known_landmarks);
 }
@@ -370,7 +371,11 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
   MotionEstimationOptions first = opts.motion;
   first.run_bundle_adjustment = opts.window_prior.adjust_prior;
   first.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
-  result.estimate = EstimateMotions(table, camera, range, labels, first, &start);
+  std::vector<bool> fixed_cameras(range.size(), false);
+  if (opts.window_prior.fix_known_poses)
+    for (int k = 0; k < range.size(); ++k) fixed_cameras[k] = prior->world_from_cam[k].has_value();
+  result.estimate =
+      EstimateMotions(table, camera, range, labels, first, &start, nullptr, &fixed_cameras);
   {
     IterationDiagnostics diag;
     diag.iteration = 1;
@@ -409,7 +414,8 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
     labels = std::move(next);
     timer.Reset();
     result.estimate = EstimateMotions(table, camera, range, labels, motion, &result.estimate,
-                                      opts.reuse_unchanged_clusters ? &cache : nullptr);
+                                      opts.reuse_unchanged_clusters ? &cache : nullptr,
+                                      &fixed_cameras);
     adjusted = true;
     diag.estimation_ms = timer.ElapsedMs();
     diag.chi2 = result.estimate.chi2;

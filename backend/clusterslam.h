@@ -61,6 +61,11 @@ struct WindowPriorOptions {
   /// object apart window after window (indoor seed 1: 0 of 3 objects found, 18 clusters;
   /// false 2 of 3, 5), false finds fewer cars outdoors (seed 1, 200 frames: 3 of 10, true 5).
   bool keep_moving_labels = false;
+  /// Hold the camera poses the prior has (the map's; it never overwrites them) constant in
+  /// the adjustments: only the frames new to the map and the landmarks are estimated, and
+  /// the static solve's reduced camera system shrinks from the window's frames to the new
+  /// ones. false: every pose but the first is adjusted.
+  bool fix_known_poses = true;
   /// The prior is used only when at least this fraction of the window's frames have a camera
   /// pose in it and at least `min_known_landmarks` of the window's landmarks with 4 or more
   /// observations have a cluster; otherwise the window is cold-started (after a tracking
@@ -68,8 +73,8 @@ struct WindowPriorOptions {
   double min_known_frames = 0.5;
   double min_known_landmarks = 0.5;
   void Check() const;
-  /// Keys: enabled, max_iterations, ba_iterations, adjust_prior, min_known_frames,
-  /// min_known_landmarks.
+  /// Keys: enabled, max_iterations, ba_iterations, adjust_prior, keep_moving_labels,
+  /// fix_known_poses, min_known_frames, min_known_landmarks.
   void Load(OptionsReader& reader);
 };
 
