@@ -426,6 +426,7 @@ class Adjuster {
     if (held_out) held_out_ = *held_out;
     if (fixed_cameras) fixed_cameras_ = *fixed_cameras;
     fixed_cameras_.resize(est_.world_from_cam.size(), false);
+    any_fixed_camera_ = std::find(fixed_cameras_.begin(), fixed_cameras_.end(), true) != fixed_cameras_.end();
     held_out_.resize(est_.landmark_in_cluster.size(), false);
     const FrameRange range = est_.range;
     for (const Pose& world_from_cam : est_.world_from_cam)
@@ -506,9 +507,23 @@ class Adjuster {
       if (fixed_cameras_[f]) solve->HoldConstant(&cam_from_world_[f]);
   }
 
+  /// A camera pose no solve moves: the gauge frame or a fixed one.
+  bool HeldCamera(int frame) const { return frame == 0 || fixed_cameras_[frame]; }
+
+  /// A static landmark that only held cameras observe is decoupled from every free unknown
+  /// (its residuals involve no other parameter), so leaving it out changes no pose or other
+  /// point; it keeps its position — in a warm window the map's, refined in the window where
+  /// its frames were new. Most of a warm window's static landmarks are such (KITTI: ~2/3).
+  bool OnlyHeldCamerasSee(int landmark) const {
+    if (!any_fixed_camera_) return false;
+    for (const StereoObservation& obs : table_.ObservationsOf(landmark, est_.range))
+      if (!HeldCamera(obs.frame - est_.range.begin)) return false;
+    return true;
+  }
+
   void AddStatic(Solve* solve, ObservationCount* counts) {
     for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
-      if (est_.landmark_cluster[i] != 0 || !Adjusted(i)) continue;
+      if (est_.landmark_cluster[i] != 0 || !Adjusted(i) || OnlyHeldCamerasSee(i)) continue;
       for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
         PoseBlock* pose = &cam_from_world_[obs.frame - est_.range.begin];
         if (solve->AddObservation(obs, pose, points_[i].data())) ++(*counts)[pose];
@@ -618,6 +633,7 @@ class Adjuster {
   std::map<int, int> cluster_of_label_;
   std::vector<bool> held_out_;  // [landmark id]
   std::vector<bool> fixed_cameras_;  // [frame - range.begin]
+  bool any_fixed_camera_ = false;
 };
 
 }  // namespace

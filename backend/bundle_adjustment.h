@@ -38,7 +38,9 @@ struct BundleAdjustmentSummary {
 /// `fixed_cameras` (may be null; [frame - range.begin], shorter = free) [ours]: camera poses
 /// held at their value in the static and coupled solves, as the gauge frame is — an online
 /// window's frames whose poses the map already has (the map keeps its own poses), so only
-/// the newest frames' poses and the points are estimated.
+/// the newest frames' poses and the points are estimated. Static landmarks that only held
+/// poses (fixed or the gauge frame) observe are decoupled from every free unknown and stay
+/// out of the solve with their position unchanged (leaving them out changes nothing else).
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
                                      MotionEstimate* estimate,
