@@ -116,6 +116,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
   reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
   reader.Read("analytic_jacobians", &analytic_jacobians);
+  reader.Read("dense_schur_smaller_side", &dense_schur_smaller_side);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -291,6 +292,7 @@ class Solve {
     const CoupledReprojectionCost cost(ReprojectionCost(camera_, obs.x, SqrtInformation(obs.cov)));
     Eigen::Vector3d r;
     if (!cost(cam_from_world->data(), world_from_cluster->data(), point, r.data())) return false;
+    coupled_ = true;
     problem_->AddResidualBlock(
         new ceres::AutoDiffCostFunction<CoupledReprojectionCost, 3, 7, 7, 3>(
             new CoupledReprojectionCost(cost)),
@@ -343,9 +345,12 @@ class Solve {
     // 6·frames square (docs/benchmarks.md, "Backend speed"). Same normal equations, same steps.
     if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
         options_.points_first_sparse_ordering) {
+      const bool poses_first = so.linear_solver_type == ceres::DENSE_SCHUR &&
+                               options_.dense_schur_smaller_side && !coupled_ &&
+                               3 * FreeBlocks(points_) < 6 * FreeBlocks(pose_blocks_);
       auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-      for (double* p : points_) ordering->AddElementToGroup(p, 0);
-      for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
+      for (double* p : points_) ordering->AddElementToGroup(p, poses_first ? 1 : 0);
+      for (double* p : pose_blocks_) ordering->AddElementToGroup(p, poses_first ? 0 : 1);
       so.linear_solver_ordering = ordering;
     }
     ceres::Solver::Summary s;
@@ -376,6 +381,11 @@ class Solve {
   }
 
  private:
+  int FreeBlocks(const std::vector<double*>& blocks) const {
+    return static_cast<int>(std::count_if(blocks.begin(), blocks.end(), [this](double* b) {
+      return !problem_->IsParameterBlockConstant(b);
+    }));
+  }
   void AddPose(PoseBlock* pose) {
     if (known_.insert(pose->data()).second) {
       problem_->SetManifold(pose->data(), &pose_manifold_);
@@ -396,6 +406,7 @@ class Solve {
   std::set<const double*> known_;
   std::vector<double*> points_, pose_blocks_;
   int num_poses_ = 0;
+  bool coupled_ = false;  // a residual touches two poses: they are not independent
 };
 
 /// Counts observations per pose block so that poorly observed poses can be held.

@@ -226,6 +226,13 @@ TEST(BundleAdjustment, SolverChoicesReachTheReferenceSolution) {
   };
   add("dense_schur", [](BundleAdjustmentOptions& o) { o.sparse_schur_min_poses = 1000; }, 1e-6,
       1e-7, 1e-5, 1e-8);
+  // The moving clusters (30 points in 30 frames) eliminate their poses first by default.
+  add("dense_schur_points_first",
+      [](BundleAdjustmentOptions& o) {
+        o.sparse_schur_min_poses = 1000;
+        o.dense_schur_smaller_side = false;
+      },
+      1e-6, 1e-7, 1e-5, 1e-8);
   add("sparse_schur", [](BundleAdjustmentOptions& o) { o.sparse_solver = SparseSolver::kSchur; },
       1e-6, 1e-7, 1e-5, 1e-8);
   add("eigen_normal_cholesky",
