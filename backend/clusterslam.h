@@ -65,7 +65,7 @@ struct WindowPriorOptions {
   /// the adjustments: only the frames new to the map (and the newest `free_known_frames`
   /// known ones), the moving clusters and the landmarks are estimated, and static landmarks
   /// only held poses see leave the static solve (backend/bundle_adjustment.h). Off by
-  /// default [measured, docs/benchmarks.md "Faster warm windows"]: KITTI 0005 backend 505 →
+  /// default [measured, docs/benchmarks.md "Faster warm windows"]: KITTI 0005 backend 375 →
   /// 186 ms CPU per window with the same ATE, but outdoor seed 1 (200 frames) drifts: camera
   /// ATE 0.107 → 0.375 m all held, 0.143 m with 15 known frames free — a frame's map pose is
   /// from the window where it was newest and least constrained, and holding it chains the
