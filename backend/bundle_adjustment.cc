@@ -116,6 +116,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
   reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
   reader.Read("analytic_jacobians", &analytic_jacobians);
+  reader.Read("dense_schur_smaller_side", &dense_schur_smaller_side);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -291,6 +292,7 @@ class Solve {
     const CoupledReprojectionCost cost(ReprojectionCost(camera_, obs.x, SqrtInformation(obs.cov)));
     Eigen::Vector3d r;
     if (!cost(cam_from_world->data(), world_from_cluster->data(), point, r.data())) return false;
+    coupled_ = true;
     problem_->AddResidualBlock(
         new ceres::AutoDiffCostFunction<CoupledReprojectionCost, 3, 7, 7, 3>(
             new CoupledReprojectionCost(cost)),
@@ -343,9 +345,12 @@ class Solve {
     // 6·frames square (docs/benchmarks.md, "Backend speed"). Same normal equations, same steps.
     if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
         options_.points_first_sparse_ordering) {
+      const bool poses_first = so.linear_solver_type == ceres::DENSE_SCHUR &&
+                               options_.dense_schur_smaller_side && !coupled_ &&
+                               3 * FreeBlocks(points_) < 6 * FreeBlocks(pose_blocks_);
       auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-      for (double* p : points_) ordering->AddElementToGroup(p, 0);
-      for (double* p : pose_blocks_) ordering->AddElementToGroup(p, 1);
+      for (double* p : points_) ordering->AddElementToGroup(p, poses_first ? 1 : 0);
+      for (double* p : pose_blocks_) ordering->AddElementToGroup(p, poses_first ? 0 : 1);
       so.linear_solver_ordering = ordering;
     }
     ceres::Solver::Summary s;
@@ -376,6 +381,11 @@ class Solve {
   }
 
  private:
+  int FreeBlocks(const std::vector<double*>& blocks) const {
+    return static_cast<int>(std::count_if(blocks.begin(), blocks.end(), [this](double* b) {
+      return !problem_->IsParameterBlockConstant(b);
+    }));
+  }
   void AddPose(PoseBlock* pose) {
     if (known_.insert(pose->data()).second) {
       problem_->SetManifold(pose->data(), &pose_manifold_);
@@ -396,6 +406,7 @@ class Solve {
   std::set<const double*> known_;
   std::vector<double*> points_, pose_blocks_;
   int num_poses_ = 0;
+  bool coupled_ = false;  // a residual touches two poses: they are not independent
 };
 
 /// Counts observations per pose block so that poorly observed poses can be held.
@@ -421,9 +432,12 @@ class Adjuster {
  public:
   Adjuster(const TrackletTable& table, const StereoCamera& camera,
            const BundleAdjustmentOptions& options, MotionEstimate* estimate,
-           const std::vector<bool>* held_out)
+           const std::vector<bool>* held_out, const std::vector<bool>* fixed_cameras)
       : table_(table), camera_(camera), options_(options), est_(*estimate) {
     if (held_out) held_out_ = *held_out;
+    if (fixed_cameras) fixed_cameras_ = *fixed_cameras;
+    fixed_cameras_.resize(est_.world_from_cam.size(), false);
+    any_fixed_camera_ = std::find(fixed_cameras_.begin(), fixed_cameras_.end(), true) != fixed_cameras_.end();
     held_out_.resize(est_.landmark_in_cluster.size(), false);
     const FrameRange range = est_.range;
     for (const Pose& world_from_cam : est_.world_from_cam)
@@ -494,13 +508,33 @@ class Adjuster {
     ObservationCount counts;
     AddStatic(&solve, &counts);
     HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
+    HoldFixedCameras(&solve);
     if (!cam_from_world_.empty()) solve.HoldConstant(&cam_from_world_[0]);
     solve.Run(summary);
   }
 
+  void HoldFixedCameras(Solve* solve) {
+    for (size_t f = 0; f < cam_from_world_.size(); ++f)
+      if (fixed_cameras_[f]) solve->HoldConstant(&cam_from_world_[f]);
+  }
+
+  /// A camera pose no solve moves: the gauge frame or a fixed one.
+  bool HeldCamera(int frame) const { return frame == 0 || fixed_cameras_[frame]; }
+
+  /// A static landmark that only held cameras observe is decoupled from every free unknown
+  /// (its residuals involve no other parameter), so leaving it out changes no pose or other
+  /// point; it keeps its position — in a warm window the map's, refined in the window where
+  /// its frames were new. Most of a warm window's static landmarks are such (KITTI: ~2/3).
+  bool OnlyHeldCamerasSee(int landmark) const {
+    if (!any_fixed_camera_) return false;
+    for (const StereoObservation& obs : table_.ObservationsOf(landmark, est_.range))
+      if (!HeldCamera(obs.frame - est_.range.begin)) return false;
+    return true;
+  }
+
   void AddStatic(Solve* solve, ObservationCount* counts) {
     for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
-      if (est_.landmark_cluster[i] != 0 || !Adjusted(i)) continue;
+      if (est_.landmark_cluster[i] != 0 || !Adjusted(i) || OnlyHeldCamerasSee(i)) continue;
       for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
         PoseBlock* pose = &cam_from_world_[obs.frame - est_.range.begin];
         if (solve->AddObservation(obs, pose, points_[i].data())) ++(*counts)[pose];
@@ -537,6 +571,7 @@ class Adjuster {
       HoldWeakPoses(cs.world_from_cluster, counts, options_.min_observations_per_pose, &solve);
     }
     HoldWeakPoses(cam_from_world_, counts, options_.min_observations_per_pose, &solve);
+    HoldFixedCameras(&solve);
     if (!cam_from_world_.empty()) solve.HoldConstant(&cam_from_world_[0]);
     solve.Run(summary);
     for (ClusterState& cs : clusters_)
@@ -549,8 +584,10 @@ class Adjuster {
 
   /// Step (3): P^q_t = P^c_t T^{cq}_t, and the refined values back into the estimate.
   void WriteBack() {
+    // Fixed poses are not written back: the quaternion round trip would perturb them in the
+    // last bits, and the caller relies on them being exactly the map's.
     for (size_t f = 0; f < cam_from_world_.size(); ++f)
-      est_.world_from_cam[f] = cam_from_world_[f].ToPose().inverse();
+      if (!fixed_cameras_[f]) est_.world_from_cam[f] = cam_from_world_[f].ToPose().inverse();
     for (size_t i = 0; i < points_.size(); ++i)
       if (Usable(static_cast<int>(i)))
         est_.landmark_in_cluster[i] = Eigen::Vector3d(points_[i][0], points_[i][1], points_[i][2]);
@@ -606,19 +643,23 @@ class Adjuster {
   std::vector<ClusterState> clusters_;
   std::map<int, int> cluster_of_label_;
   std::vector<bool> held_out_;  // [landmark id]
+  std::vector<bool> fixed_cameras_;  // [frame - range.begin]
+  bool any_fixed_camera_ = false;
 };
 
 }  // namespace
 
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
-                                     MotionEstimate* estimate, const std::vector<bool>* held_out) {
+                                     MotionEstimate* estimate, const std::vector<bool>* held_out,
+                                     const std::vector<bool>* fixed_cameras) {
   CSLAM_CHECK(static_cast<int>(estimate->world_from_cam.size()) == estimate->range.size(),
               "AdjustBundle: world_from_cam must have one pose per frame of the range");
   CSLAM_CHECK(estimate->landmark_cluster.size() == estimate->landmark_in_cluster.size(),
               "AdjustBundle: landmark_cluster and landmark_in_cluster must be parallel");
   const double initial = EvaluateChi2(table, camera, estimate);
-  BundleAdjustmentSummary summary = Adjuster(table, camera, options, estimate, held_out).Run();
+  BundleAdjustmentSummary summary =
+      Adjuster(table, camera, options, estimate, held_out, fixed_cameras).Run();
   summary.initial_chi2 = initial;
   summary.final_chi2 = EvaluateChi2(table, camera, estimate);
   summary.num_residuals = estimate->num_residuals;

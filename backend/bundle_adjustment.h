@@ -35,10 +35,17 @@ struct BundleAdjustmentSummary {
 /// `held_out` (may be null; [landmark id], shorter = not held): landmarks kept out of every
 /// solve — they keep their cluster, and afterwards are placed at the mean of their
 /// back-projections through the refined poses of their cluster.
+/// `fixed_cameras` (may be null; [frame - range.begin], shorter = free) [ours]: camera poses
+/// held at their value in the static and coupled solves, as the gauge frame is — an online
+/// window's frames whose poses the map already has (the map keeps its own poses), so only
+/// the newest frames' poses and the points are estimated. Static landmarks that only held
+/// poses (fixed or the gauge frame) observe are decoupled from every free unknown and stay
+/// out of the solve with their position unchanged (leaving them out changes nothing else).
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
                                      MotionEstimate* estimate,
-                                     const std::vector<bool>* held_out = nullptr);
+                                     const std::vector<bool>* held_out = nullptr,
+                                     const std::vector<bool>* fixed_cameras = nullptr);
 
 /// Σ squared Mahalanobis reprojection error of `estimate` (no robust kernel) over every
 /// observation in the range of a landmark with a cluster and a finite position; also writes

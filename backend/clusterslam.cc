@@ -42,6 +42,8 @@ void WindowPriorOptions::Check() const {
   CheckOption(min_known_landmarks >= 0 && min_known_landmarks <= 1,
               "clusterslam.window_prior.min_known_landmarks", "must be in [0, 1]",
               min_known_landmarks);
+  CheckOption(free_known_frames >= 0, "clusterslam.window_prior.free_known_frames",
+              "must be >= 0", free_known_frames);
 }
 
 void WindowPriorOptions::Load(OptionsReader& reader) {
@@ -50,6 +52,8 @@ void WindowPriorOptions::Load(OptionsReader& reader) {
   reader.Read("ba_iterations", &ba_iterations);
   reader.Read("adjust_prior", &adjust_prior);
   reader.Read("keep_moving_labels", &keep_moving_labels);
+  reader.Read("fix_known_poses", &fix_known_poses);
+  reader.Read("free_known_frames", &free_known_frames);
   reader.Read("min_known_frames", &min_known_frames);
   reader.Read("min_known_landmarks", &min_known_landmarks);
 }
@@ -370,7 +374,23 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
   MotionEstimationOptions first = opts.motion;
   first.run_bundle_adjustment = opts.window_prior.adjust_prior;
   first.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
-  result.estimate = EstimateMotions(table, camera, range, labels, first, &start);
+  std::vector<bool> fixed_cameras(range.size(), false);
+  if (opts.window_prior.fix_known_poses) {
+    // The newest `free_known_frames` known poses stay free: the map has each frame's pose from
+    // the window where it was newest, least constrained; letting the last ones move keeps the
+    // new frames from being chained to them rigidly (all held: outdoor seed 1 drifts 3.5×).
+    int free_left = opts.window_prior.free_known_frames;
+    for (int k = range.size() - 1; k >= 0; --k) {
+      if (!prior->world_from_cam[k]) continue;
+      if (free_left > 0) {
+        --free_left;
+        continue;
+      }
+      fixed_cameras[k] = true;
+    }
+  }
+  result.estimate =
+      EstimateMotions(table, camera, range, labels, first, &start, nullptr, &fixed_cameras);
   {
     IterationDiagnostics diag;
     diag.iteration = 1;
@@ -409,7 +429,8 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
     labels = std::move(next);
     timer.Reset();
     result.estimate = EstimateMotions(table, camera, range, labels, motion, &result.estimate,
-                                      opts.reuse_unchanged_clusters ? &cache : nullptr);
+                                      opts.reuse_unchanged_clusters ? &cache : nullptr,
+                                      &fixed_cameras);
     adjusted = true;
     diag.estimation_ms = timer.ElapsedMs();
     diag.chi2 = result.estimate.chi2;

@@ -61,6 +61,19 @@ struct WindowPriorOptions {
   /// object apart window after window (indoor seed 1: 0 of 3 objects found, 18 clusters;
   /// false 2 of 3, 5), false finds fewer cars outdoors (seed 1, 200 frames: 3 of 10, true 5).
   bool keep_moving_labels = false;
+  /// Hold the camera poses the prior has (the map's; it never overwrites them) constant in
+  /// the adjustments: only the frames new to the map (and the newest `free_known_frames`
+  /// known ones), the moving clusters and the landmarks are estimated, and static landmarks
+  /// only held poses see leave the static solve (backend/bundle_adjustment.h). Off by
+  /// default [measured, docs/benchmarks.md "Faster warm windows"]: KITTI 0005 backend 375 →
+  /// 186 ms CPU per window with the same ATE, but outdoor seed 1 (200 frames) drifts: camera
+  /// ATE 0.107 → 0.375 m all held, 0.143 m with 15 known frames free — a frame's map pose is
+  /// from the window where it was newest and least constrained, and holding it chains the
+  /// new frames to it.
+  bool fix_known_poses = false;
+  /// With fix_known_poses: the newest this many known poses are adjusted all the same (a
+  /// lag; 0 = every known pose held).
+  int free_known_frames = 10;
   /// The prior is used only when at least this fraction of the window's frames have a camera
   /// pose in it and at least `min_known_landmarks` of the window's landmarks with 4 or more
   /// observations have a cluster; otherwise the window is cold-started (after a tracking
@@ -68,8 +81,8 @@ struct WindowPriorOptions {
   double min_known_frames = 0.5;
   double min_known_landmarks = 0.5;
   void Check() const;
-  /// Keys: enabled, max_iterations, ba_iterations, adjust_prior, min_known_frames,
-  /// min_known_landmarks.
+  /// Keys: enabled, max_iterations, ba_iterations, adjust_prior, keep_moving_labels,
+  /// fix_known_poses, free_known_frames, min_known_frames, min_known_landmarks.
   void Load(OptionsReader& reader);
 };
 

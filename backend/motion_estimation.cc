@@ -45,7 +45,8 @@ void MotionEstimationOptions::Load(OptionsReader& reader) {
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
                                const MotionEstimationOptions& options,
-                               const MotionEstimate* warm_start, MovingClusterCache* cache) {
+                               const MotionEstimate* warm_start, MovingClusterCache* cache,
+                               const std::vector<bool>* fixed_cameras) {
   MotionEstimate est;
   est.range = range;
   const int n = table.num_landmarks();
@@ -165,7 +166,9 @@ MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& c
     GetLogger("backend")->debug("{} landmarks inconsistent with their cluster held out of the "
                                 "bundle adjustment", num_held_out);
   if (options.run_bundle_adjustment)
-    AdjustBundle(table, camera, options.bundle_adjustment, &est, &held_out);
+    // Held poses are only meaningful as the warm start's: a cold estimate's are fresh guesses.
+    AdjustBundle(table, camera, options.bundle_adjustment, &est, &held_out,
+                 warm && members.count(0) ? fixed_cameras : nullptr);
   if (!reused.empty()) {
     for (ClusterMotion& m : reused) {
       for (size_t k = 0; k < m.frames.size(); ++k)

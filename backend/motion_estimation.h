@@ -96,10 +96,15 @@ struct MovingClusterCache {
 /// `cache` (may be null) [ours]: moving clusters of the previous call are reused when the
 /// landmark set, range and options are the same and the coupling is decoupled (the result is
 /// then identical to re-estimating them); afterwards it holds this call's moving clusters.
+///
+/// `fixed_cameras` (may be null; [frame - range.begin]) [ours]: camera poses the bundle
+/// adjustment holds at the warm start's poses (AdjustBundle) — an online window's frames the
+/// map already has. Ignored without a usable `warm_start` or without static landmarks.
 MotionEstimate EstimateMotions(const TrackletTable& table, const StereoCamera& camera,
                                FrameRange range, const std::vector<int>& landmark_cluster,
                                const MotionEstimationOptions& options,
                                const MotionEstimate* warm_start = nullptr,
-                               MovingClusterCache* cache = nullptr);
+                               MovingClusterCache* cache = nullptr,
+                               const std::vector<bool>* fixed_cameras = nullptr);
 
 }  // namespace cslam

@@ -85,7 +85,8 @@ double CameraRms(const SyntheticSequence& seq, const MotionEstimate& est) {
   return est.range.size() > 0 ? std::sqrt(sum / est.range.size()) : 0.0;
 }
 
-// Args: window_prior.max_iterations, window_prior.ba_iterations.
+// Args: window_prior.max_iterations, window_prior.ba_iterations, held (1: fix_known_poses and
+// dense_schur_smaller_side, the defaults; 0: both off, as before "Faster warm windows").
 void BM_WarmWindow(benchmark::State& state) {
   const SyntheticSequence& seq = Outdoor200();
   const FrameRange range{100, 130};
@@ -93,6 +94,8 @@ void BM_WarmWindow(benchmark::State& state) {
   static const Replay before = ReplayWindows(seq, range.end - kEvery, options);
   options.window_prior.max_iterations = static_cast<int>(state.range(0));
   options.window_prior.ba_iterations = static_cast<int>(state.range(1));
+  options.window_prior.fix_known_poses = state.range(2) != 0;
+  options.motion.bundle_adjustment.dense_schur_smaller_side = state.range(2) != 0;
   const TrackletTable table = seq.observations.Slice(range);
   BackendResult b;
   for (auto _ : state) {
@@ -110,10 +113,11 @@ void BM_WarmWindow(benchmark::State& state) {
   state.counters["chi2"] = b.estimate.chi2;
 }
 BENCHMARK(BM_WarmWindow)
-    ->Args({1, 10})  // the defaults
-    ->Args({2, 10})
-    ->Args({1, 5})
-    ->ArgNames({"rounds", "lm"})
+    ->Args({1, 10, 1})  // the defaults
+    ->Args({1, 10, 0})
+    ->Args({2, 10, 1})
+    ->Args({1, 5, 1})
+    ->ArgNames({"rounds", "lm", "held"})
     ->Unit(benchmark::kMillisecond)
     ->Repetitions(5)
     ->ReportAggregatesOnly(true)
