@@ -480,78 +480,78 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
     shape.cluster_from_cam.clear();
     shape.registered.clear();
     shape.num_unregistered = 0;
-      Pose current = Pose::Identity();
-      for (int frame : shape.frames) {
-        const std::vector<FramePoint>& points = by_frame[frame - range.begin];
-        bool registered = false;
-        if (shape.first_sight >= 0 && frame == shape.first_sight) {
-          current = Pose::Identity();
-          registered = true;
-        } else if (shape.first_sight >= 0 && frame > shape.first_sight) {
-          std::vector<const FramePoint*> matched, rigid;
-          for (const FramePoint& fp : points)
-            if (models[fp.local].initialised) {
-              matched.push_back(&fp);
-              if (models[fp.local].rigid) rigid.push_back(&fp);
-            }
-          // Register on the landmarks that have moved with the cluster so far, when enough do.
-          if (static_cast<int>(rigid.size()) >= options.min_points) matched = std::move(rigid);
-          if (static_cast<int>(matched.size()) >= options.min_points) {
-            std::vector<Eigen::Vector3d> src, dst;
+    Pose current = Pose::Identity();
+    for (int frame : shape.frames) {
+      const std::vector<FramePoint>& points = by_frame[frame - range.begin];
+      bool registered = false;
+      if (shape.first_sight >= 0 && frame == shape.first_sight) {
+        current = Pose::Identity();
+        registered = true;
+      } else if (shape.first_sight >= 0 && frame > shape.first_sight) {
+        std::vector<const FramePoint*> matched, rigid;
+        for (const FramePoint& fp : points)
+          if (models[fp.local].initialised) {
+            matched.push_back(&fp);
+            if (models[fp.local].rigid) rigid.push_back(&fp);
+          }
+        // Register on the landmarks that have moved with the cluster so far, when enough do.
+        if (static_cast<int>(rigid.size()) >= options.min_points) matched = std::move(rigid);
+        if (static_cast<int>(matched.size()) >= options.min_points) {
+          std::vector<Eigen::Vector3d> src, dst;
+          for (const FramePoint* fp : matched) {
+            src.push_back(fp->p_in_cam);
+            dst.push_back(models[fp->local].mean);
+          }
+          const Pose svd = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
+          Pose estimate = svd;
+          if (!point_to_point_icp) {
+            std::vector<RegistrationPoint> corr;
+            corr.reserve(matched.size());
             for (const FramePoint* fp : matched) {
-              src.push_back(fp->p_in_cam);
-              dst.push_back(models[fp->local].mean);
+              // Registration needs Σ in the camera frame: rotate the cluster-frame one back.
+              const Eigen::Matrix3d R = current.linear();
+              RegistrationPoint rp{fp->p_in_cam,
+                                   R.transpose() * covariance(*fp, current) * R,
+                                   models[fp->local].mean,
+                                   {}};
+              for (const Component& c : models[fp->local].components)
+                rp.model_covariances.push_back(c.cov);
+              corr.push_back(std::move(rp));
             }
-            const Pose svd = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
-            Pose estimate = svd;
-            if (!point_to_point_icp) {
-              std::vector<RegistrationPoint> corr;
-              corr.reserve(matched.size());
-              for (const FramePoint* fp : matched) {
-                // Registration needs Σ in the camera frame: rotate the cluster-frame one back.
-                const Eigen::Matrix3d R = current.linear();
-                RegistrationPoint rp{fp->p_in_cam,
-                                     R.transpose() * covariance(*fp, current) * R,
-                                     models[fp->local].mean,
-                                     {}};
-                for (const Component& c : models[fp->local].components)
-                  rp.model_covariances.push_back(c.cov);
-                corr.push_back(std::move(rp));
-              }
-              // Start from the better of the previous pose and the SVD solution: from the previous
-              // pose alone, Gauss–Newton lost a fast-spinning small body (depth weakly
-              // constrained) in a wrong basin; a constant-velocity start made outdoor runs worse.
-              const std::vector<Pose> starts = {current, svd};
-              if (options.robust_registration) {
-                estimate = RegisterRobust(corr, starts, options, static_cast<unsigned>(frame));
-              } else {
-                Pose start = current;
-                double best = std::numeric_limits<double>::infinity();
-                for (const Pose& candidate : starts) {
-                  const double c = RegistrationCost(corr, candidate, options.huber_threshold_sigma);
-                  if (c < best) {
-                    best = c;
-                    start = candidate;
-                  }
+            // Start from the better of the previous pose and the SVD solution: from the previous
+            // pose alone, Gauss–Newton lost a fast-spinning small body (depth weakly
+            // constrained) in a wrong basin; a constant-velocity start made outdoor runs worse.
+            const std::vector<Pose> starts = {current, svd};
+            if (options.robust_registration) {
+              estimate = RegisterRobust(corr, starts, options, static_cast<unsigned>(frame));
+            } else {
+              Pose start = current;
+              double best = std::numeric_limits<double>::infinity();
+              for (const Pose& candidate : starts) {
+                const double c = RegistrationCost(corr, candidate, options.huber_threshold_sigma);
+                if (c < best) {
+                  best = c;
+                  start = candidate;
                 }
-                estimate = RegisterNoiseAware(corr, start, options);
-                if (!(RegistrationCost(corr, estimate, options.huber_threshold_sigma) <= best))
-                  estimate = start;
               }
-            }
-            if (estimate.matrix().allFinite()) {
-              current = estimate;
-              registered = true;
+              estimate = RegisterNoiseAware(corr, start, options);
+              if (!(RegistrationCost(corr, estimate, options.huber_threshold_sigma) <= best))
+                estimate = start;
             }
           }
+          if (estimate.matrix().allFinite()) {
+            current = estimate;
+            registered = true;
+          }
         }
-        shape.cluster_from_cam.push_back(current);
-        shape.registered.push_back(registered);
-        if (registered)
-          for (const FramePoint& fp : points) integrate(fp, current);
-        else
-          ++shape.num_unregistered;
       }
+      shape.cluster_from_cam.push_back(current);
+      shape.registered.push_back(registered);
+      if (registered)
+        for (const FramePoint& fp : points) integrate(fp, current);
+      else
+        ++shape.num_unregistered;
+    }
     if (options.refit_passes <= 0) break;
     const std::vector<bool> next = TrackOutliers(by_frame, range, shape, options.refit_chi2);
     if (pass >= options.refit_passes || next == excluded) {
