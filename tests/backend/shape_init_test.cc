@@ -149,11 +149,14 @@ TEST(ShapeInit, NoiseAwareBeatsPointToPointOutdoors) {
   EXPECT_LT(ate_aware, 0.3);
 }
 
-// Plain Eq. 3 with the fusion gate (the behaviour before robust registration and refit passes).
-ShapeInitOptions PlainOptions() {
+// Plain Eq. 3 with the fusion gate (the default).
+ShapeInitOptions PlainOptions() { return ShapeInitOptions{}; }
+
+// MSAC registration and two track-test passes (opt-in, docs/backend.md).
+ShapeInitOptions RobustOptions() {
   ShapeInitOptions o;
-  o.robust_registration = false;
-  o.refit_passes = 0;
+  o.robust_registration = true;
+  o.refit_passes = 2;
   return o;
 }
 
@@ -210,7 +213,7 @@ TEST(ShapeInit, StaticClusterWithMislabelledMoversFollowsTheCamera) {
     if (!scene.table.ObservationsOf(i).empty()) landmarks.push_back(i);
   const FrameRange range{0, spec.num_frames};
   const ClusterShape robust =
-      InitializeClusterShape(scene.table, scene.camera, range, landmarks, ShapeInitOptions{});
+      InitializeClusterShape(scene.table, scene.camera, range, landmarks, RobustOptions());
   const ClusterShape plain =
       InitializeClusterShape(scene.table, scene.camera, range, landmarks, PlainOptions());
   std::vector<Pose> truth;
