@@ -192,6 +192,7 @@ TEST(EstimateMotions, HoldingOutInconsistentLandmarksProtectsTheCamera) {
   const FrameRange range{0, scene.table.num_frames()};
   const std::vector<int> all_static(scene.labels.size(), 0);
   MotionEstimationOptions o;
+  o.hold_out_inconsistent_landmarks = false;
   const MotionEstimate adjusted =
       EstimateMotions(scene.table, scene.camera, range, all_static, o);
   o.hold_out_inconsistent_landmarks = true;
@@ -210,9 +211,11 @@ TEST(EstimateMotions, HoldingOutInconsistentLandmarksProtectsTheCamera) {
     if (held.landmark_cluster[i] >= 0) EXPECT_TRUE(held.landmark_in_cluster[i].allFinite()) << i;
   }
 
-  // Without the gate nothing is inconsistent: the option changes nothing.
+  // Without the gate and the track test nothing is inconsistent: the option changes nothing.
   MotionEstimationOptions no_gate;
   no_gate.shape_init.fusion_gate_chi2 = 0;
+  no_gate.shape_init.refit_passes = 0;
+  no_gate.hold_out_inconsistent_landmarks = false;
   const MotionEstimate a = EstimateMotions(scene.table, scene.camera, range, all_static, no_gate);
   no_gate.hold_out_inconsistent_landmarks = true;
   const MotionEstimate b = EstimateMotions(scene.table, scene.camera, range, all_static, no_gate);

@@ -84,6 +84,8 @@ TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3)
   const FrameRange range{0, 100};
   MotionEstimationOptions gate_off;
   gate_off.shape_init.fusion_gate_chi2 = 0;
+  gate_off.shape_init.robust_registration = false;
+  gate_off.shape_init.refit_passes = 0;
   const BackendResult r = RunFullBa(seq.observations, seq.camera, range, gate_off);
   const EstimateSanity sanity =
       JudgeEstimate(r.estimate, seq.observations, seq.camera, EstimateSanityOptions{});
