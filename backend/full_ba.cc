@@ -14,6 +14,7 @@ BackendResult RunFullBa(const TrackletTable& table, const StereoCamera& camera, 
   // out would make it a robust method (camera ATE 0.003 m instead of biased, tests/backend).
   MotionEstimationOptions adjust_all = options;
   adjust_all.hold_out_inconsistent_landmarks = false;
+  adjust_all.shape_init.fusion_gate_chi2 = options.shape_init.baseline_fusion_gate_chi2;
   result.estimate = EstimateMotions(table, camera, range, all_static, adjust_all);
   IterationDiagnostics diag;
   diag.iteration = 1;

@@ -34,6 +34,7 @@ BackendResult RunProgressiveDcs(const TrackletTable& table, const StereoCamera& 
   result.method = "pdcs";
   MotionEstimationOptions estimation = options.estimation;
   estimation.bundle_adjustment.robust_kernel = RobustKernel::kDcs;
+  estimation.shape_init.fusion_gate_chi2 = estimation.shape_init.baseline_fusion_gate_chi2;
 
   std::vector<int> labels(table.num_landmarks(), 0);
   std::vector<int> current;  // the set being split in this pass

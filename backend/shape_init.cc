@@ -21,6 +21,8 @@ void ShapeInitOptions::Check() const {
               huber_threshold_sigma);
   CheckOption(std::isfinite(fusion_gate_chi2), "fusion_gate_chi2", "must be finite (<= 0: off)",
               fusion_gate_chi2);
+  CheckOption(std::isfinite(baseline_fusion_gate_chi2), "baseline_fusion_gate_chi2",
+              "must be finite (<= 0: off)", baseline_fusion_gate_chi2);
   CheckOption(ransac_inlier_chi2 > 0 && std::isfinite(ransac_inlier_chi2), "ransac_inlier_chi2",
               "must be > 0", ransac_inlier_chi2);
   CheckOption(ransac_max_samples >= 0, "ransac_max_samples", "must be >= 0", ransac_max_samples);
@@ -41,6 +43,7 @@ void ShapeInitOptions::Load(OptionsReader& reader) {
   reader.Read("min_points", &min_points);
   reader.Read("covariance_at_model", &covariance_at_model);
   reader.Read("fusion_gate_chi2", &fusion_gate_chi2);
+  reader.Read("baseline_fusion_gate_chi2", &baseline_fusion_gate_chi2);
   reader.Read("robust_registration", &robust_registration);
   reader.Read("ransac_inlier_chi2", &ransac_inlier_chi2);
   reader.Read("ransac_max_samples", &ransac_max_samples);

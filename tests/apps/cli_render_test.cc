@@ -9,6 +9,8 @@
 
 #include "core/errors.h"
 #include "system/cluster_colors.h"
+#include "system/run_outputs_reader.h"
+#include "system/run_trajectory_plot.h"
 #include "tests/apps/subprocess.h"
 #include "tests/system/image_test_util.h"
 #include "tests/system/kitti_fixtures.h"
@@ -42,16 +44,12 @@ class CliRender : public ::testing::Test {
     return testing::RunProcess(args, tmp_.path() / "render_logs");
   }
   /// Ids of the clusters in objects/index.csv with at least two poses (drawn as lines).
+  /// Clusters the plot draws as lines (system/run_trajectory_plot.h decides which: the small
+  /// ones are only counted in the legend).
   std::vector<int> ClustersWithLines() const {
     std::vector<int> ids;
-    const auto lines = testing::Lines(testing::ReadText(out() / "objects" / "index.csv"));
-    for (size_t k = 1; k < lines.size(); ++k) {
-      if (lines[k].empty()) continue;
-      std::vector<std::string> f;
-      std::stringstream s(lines[k]);
-      for (std::string x; std::getline(s, x, ',');) f.push_back(x);
-      if (std::stoi(f[3]) >= 2) ids.push_back(std::stoi(f[0]));
-    }
+    for (const RenderTrajectory& t : RunTrajectoryPlotLines(ReadRunOutputs(out().string())))
+      if (t.cluster >= 1 && !t.positions.empty()) ids.push_back(t.cluster);
     return ids;
   }
   /// Rejected: the exit code, the message, no crash, and the picture as it was.

@@ -1,7 +1,7 @@
 // The baselines (Full BA, Progressive DCS; clusterslam_spec.md §8) on the synthetic
 // generator's outdoor sequences, against its ground truth. Both treat the moving cars as
 // static, so their camera trajectories are biased — but they must stay finite and sane.
-// Without the shape initialisation's fusion gate (ShapeInitOptions::fusion_gate_chi2 = 0)
+// Without the shape initialisation's fusion gate (ShapeInitOptions::baseline_fusion_gate_chi2 = 0)
 // every case below diverged: camera steps of 1e16–1e35 m (docs/benchmarks.md).
 #include <gtest/gtest.h>
 
@@ -83,7 +83,7 @@ TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3)
   const SyntheticSequence seq = GenerateSynthetic(o);
   const FrameRange range{0, 100};
   MotionEstimationOptions gate_off;
-  gate_off.shape_init.fusion_gate_chi2 = 0;
+  gate_off.shape_init.baseline_fusion_gate_chi2 = 0;
   gate_off.shape_init.robust_registration = false;
   gate_off.shape_init.refit_passes = 0;
   const BackendResult r = RunFullBa(seq.observations, seq.camera, range, gate_off);
