@@ -272,12 +272,8 @@ Pose WeightedRegistrationStep(const std::vector<RegistrationPoint>& points,
     ++used;
   }
   if (used < 3) return pose;
-  const Eigen::Matrix<double, 6, 1> delta = -H.ldlt().solve(g);
-  Pose updated = Pose::Identity();
-  const Eigen::Matrix3d dR = ExpSO3(delta.head<3>());
-  updated.linear() = dR * pose.linear();
-  updated.translation() = dR * pose.translation() + delta.tail<3>();
-  return updated;
+  // Left perturbation: Exp(δ) · pose.
+  return PoseFromVector(-H.ldlt().solve(g)) * pose;
 }
 
 /// Per landmark of `shape`: true when the reduced χ² of its back-projections mapped through the

@@ -243,12 +243,6 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
         aligned = true;
         ++info.by_motion;
       } else {
-        std::vector<Eigen::Vector3d> src, dst;
-        for (int l : ids) {
-          if (ClusterOf(l) != it->second) continue;
-          src.push_back(window.landmark_in_cluster[l]);
-          dst.push_back(landmarks_[l].p_in_cluster);
-        }
         const MapCluster& mc = clusters_[it->second];
         std::optional<MotionAgreement> stitch;
         if (options_.stitch_by_motion) {
@@ -258,6 +252,13 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
                                   world_from_cam_);
           if (stitch->frames < options_.motion_min_frames) stitch.reset();
         }
+        std::vector<Eigen::Vector3d> src, dst;  // shared landmarks, only when not stitched
+        if (!stitch)
+          for (int l : ids) {
+            if (ClusterOf(l) != it->second) continue;
+            src.push_back(window.landmark_in_cluster[l]);
+            dst.push_back(landmarks_[l].p_in_cluster);
+          }
         if (stitch) {
           mapcluster_from_wincluster = stitch->a_from_b;
           aligned = true;

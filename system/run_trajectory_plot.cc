@@ -62,9 +62,8 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
   for (const auto& [n, id] : order) {
     const Trajectory& c = outputs.clusters.at(id);
     RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    if (const auto it = centroids.find(id); it != centroids.end() && it->second.second > 0)
-      centroid = it->second.first / it->second.second;
+    const Eigen::Vector3d centroid =
+        n > 0 ? Eigen::Vector3d(centroids.at(id).first / n) : Eigen::Vector3d::Zero();
     for (const Pose& pose : c.poses) t.positions.push_back(pose * centroid);
     // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
     // out of the plot and say so (its trajectory file is still written).
