@@ -87,7 +87,18 @@ class Solver {
     for (int i = 0; i < n; ++i) start_[i + 1] += start_[i];
     order_.resize(p_.residuals.size());
     std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (size_t k = 0; k < p_.residuals.size(); ++k) order_[fill[p_.residuals[k].point]++] = k;
+    for (size_t k = 0; k < p_.residuals.size(); ++k) order_[fill[p_.residuals[k].point]++] = static_cast<int>(k);
+    // ... and the residuals through free poses grouped by pose.
+    pose_start_.assign(num_free_ + 1, 0);
+    for (const StereoLmResidual& r : p_.residuals)
+      if (free_index_[r.pose] >= 0) ++pose_start_[free_index_[r.pose] + 1];
+    for (int f = 0; f < num_free_; ++f) pose_start_[f + 1] += pose_start_[f];
+    pose_order_.resize(pose_start_[num_free_]);
+    fill.assign(pose_start_.begin(), pose_start_.end() - 1);
+    for (size_t k = 0; k < p_.residuals.size(); ++k) {
+      const int f = free_index_[p_.residuals[k].pose];
+      if (f >= 0) pose_order_[fill[f]++] = static_cast<int>(k);
+    }
   }
 
   StereoLmSummary Run() {
@@ -219,6 +230,32 @@ class Solver {
   /// system is not positive definite. `model_change` = L(0) − L(δ) of the linear model.
   bool SolveStep(double mu, std::vector<Vec6>* d_pose, std::vector<Eigen::Vector3d>* d_point,
                  double* model_change) const {
+    // Every residual touches one pose, so either side can be eliminated; factor the smaller
+    // reduced system (a moving cluster: a few points in 30 frames).
+    const int np = static_cast<int>(p_.points.size());
+    const bool ok = 3 * np < 6 * num_free_ ? EliminatePoses(mu, d_pose, d_point)
+                                           : EliminatePoints(mu, d_pose, d_point);
+    if (!ok) return false;
+    const Linearisation& lin = lin_;
+    // (H + D) δ = −g, so δᵀHδ = −gᵀδ − δᵀDδ and L(0) − L(δ) = −gᵀδ − ½δᵀHδ = ½(δᵀDδ − gᵀδ).
+    double g_dot = 0.0, d_dot = 0.0;
+    for (int f = 0; f < num_free_; ++f) {
+      const Vec6& d = (*d_pose)[f];
+      g_dot += lin.g_pose[f].dot(d);
+      for (int j = 0; j < 6; ++j) d_dot += Damping(lin.h_pose[f](j, j), mu) * d(j) * d(j);
+    }
+    for (int l = 0; l < np; ++l) {
+      const Eigen::Vector3d& d = (*d_point)[l];
+      g_dot += lin.g_point[l].dot(d);
+      for (int j = 0; j < 3; ++j) d_dot += Damping(lin.h_point[l](j, j), mu) * d(j) * d(j);
+    }
+    *model_change = 0.5 * (d_dot - g_dot);
+    return std::isfinite(*model_change);
+  }
+
+  /// Points eliminated: a dense 6·(free poses) system.
+  bool EliminatePoints(double mu, std::vector<Vec6>* d_pose,
+                       std::vector<Eigen::Vector3d>* d_point) const {
     const Linearisation& lin = lin_;
     const int np = static_cast<int>(p_.points.size());
     const int m = 6 * num_free_;
@@ -284,20 +321,65 @@ class Solver {
       }
       (*d_point)[l] = inv[l] * b;
     }
-    // (H + D) δ = −g, so δᵀHδ = −gᵀδ − δᵀDδ and L(0) − L(δ) = −gᵀδ − ½δᵀHδ = ½(δᵀDδ − gᵀδ).
-    double g_dot = 0.0, d_dot = 0.0;
-    for (int f = 0; f < num_free_; ++f) {
-      const Vec6& d = (*d_pose)[f];
-      g_dot += lin.g_pose[f].dot(d);
-      for (int j = 0; j < 6; ++j) d_dot += Damping(lin.h_pose[f](j, j), mu) * d(j) * d(j);
-    }
+    return true;
+  }
+
+  /// Free poses eliminated: a dense 3·points system.
+  bool EliminatePoses(double mu, std::vector<Vec6>* d_pose,
+                      std::vector<Eigen::Vector3d>* d_point) const {
+    const Linearisation& lin = lin_;
+    const int np = static_cast<int>(p_.points.size());
+    const int m = 3 * np;
+    Eigen::MatrixXd s = Eigen::MatrixXd::Zero(m, m);
+    Eigen::VectorXd rhs(m);
     for (int l = 0; l < np; ++l) {
-      const Eigen::Vector3d& d = (*d_point)[l];
-      g_dot += lin.g_point[l].dot(d);
-      for (int j = 0; j < 3; ++j) d_dot += Damping(lin.h_point[l](j, j), mu) * d(j) * d(j);
+      Mat3 a = lin.h_point[l];
+      for (int j = 0; j < 3; ++j) a(j, j) += Damping(a(j, j), mu);
+      s.block<3, 3>(3 * l, 3 * l) = a;
+      rhs.segment<3>(3 * l) = -lin.g_point[l];
     }
-    *model_change = 0.5 * (d_dot - g_dot);
-    return std::isfinite(*model_change);
+    std::vector<Mat6> inv(num_free_);
+    std::vector<Mat36> u;
+    for (int f = 0; f < num_free_; ++f) {
+      Mat6 b = lin.h_pose[f];
+      for (int j = 0; j < 6; ++j) b(j, j) += Damping(b(j, j), mu);
+      Eigen::LLT<Mat6> llt(b);
+      if (llt.info() != Eigen::Success) return false;
+      inv[f] = llt.solve(Mat6::Identity());
+      u.clear();
+      const Vec6 gf = -lin.g_pose[f];
+      for (int i = pose_start_[f]; i < pose_start_[f + 1]; ++i) {
+        const int k = pose_order_[i];
+        u.push_back(lin.w[k].transpose() * inv[f]);
+        rhs.segment<3>(3 * p_.residuals[k].point).noalias() -= u.back() * gf;
+      }
+      // S_ab −= U_a W_b over the pose's observed point pairs (upper triangle).
+      for (int i = pose_start_[f]; i < pose_start_[f + 1]; ++i) {
+        const int la = p_.residuals[pose_order_[i]].point;
+        for (int j = pose_start_[f]; j < pose_start_[f + 1]; ++j) {
+          const int kb = pose_order_[j];
+          const int lb = p_.residuals[kb].point;
+          if (lb >= la)
+            s.block<3, 3>(3 * la, 3 * lb).noalias() -= u[i - pose_start_[f]] * lin.w[kb];
+        }
+      }
+    }
+    Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::VectorXd x = llt.solve(rhs);
+    if (!x.allFinite()) return false;
+    d_point->assign(np, Eigen::Vector3d::Zero());
+    for (int l = 0; l < np; ++l) (*d_point)[l] = x.segment<3>(3 * l);
+    d_pose->assign(num_free_, Vec6::Zero());
+    for (int f = 0; f < num_free_; ++f) {
+      Vec6 b = -lin.g_pose[f];
+      for (int i = pose_start_[f]; i < pose_start_[f + 1]; ++i) {
+        const int k = pose_order_[i];
+        b.noalias() -= lin.w[k] * (*d_point)[p_.residuals[k].point];
+      }
+      (*d_pose)[f] = inv[f] * b;
+    }
+    return true;
   }
 
   /// The candidate state x ⊞ δ in scratch storage (the problem keeps x until Commit).
@@ -365,6 +447,7 @@ class Solver {
   std::vector<int> free_index_;  // [pose] → index among the free poses, or −1
   int num_free_ = 0;
   std::vector<int> start_, order_;  // residuals by point
+  std::vector<int> pose_start_, pose_order_;  // residuals through free poses, by free pose
   Linearisation lin_;
   std::vector<std::array<double, 7>> pose_store_;
   std::vector<std::array<double, 3>> point_store_;

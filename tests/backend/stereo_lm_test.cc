@@ -106,6 +106,20 @@ TEST(StereoLm, RecoversTheExactSolutionFromAPerturbedStartWithoutNoise) {
     for (int j = 0; j < 3; ++j) EXPECT_NEAR(s.points[i][j], s.true_points[i][j], 1e-5);
 }
 
+// 8 points in 20 frames: the solver eliminates the poses instead of the points.
+TEST(StereoLm, FewPointsInManyFramesAlsoReachTheExactSolution) {
+  Scene s = MakeScene(20, 8, 0.0, 11);
+  Perturb(&s, 12);
+  Bind(&s);
+  StereoLmOptions o;
+  o.max_iterations = 200;
+  o.function_tolerance = 1e-14;
+  const StereoLmSummary summary = SolveStereoLm(s.camera, o, &s.problem);
+  EXPECT_FALSE(summary.failed);
+  EXPECT_LT(MaxPoseError(s), 1e-6);
+  EXPECT_LT(summary.final_cost, 1e-9 * summary.initial_cost);
+}
+
 TEST(StereoLm, HeldPosesStayBitForBitAndNoiseLeavesTheExpectedChi2) {
   const int frames = 8, points = 150;
   Scene s = MakeScene(frames, points, 1.0, 3);
