@@ -15,8 +15,10 @@
 #include <utility>
 
 #include "backend/reprojection_error.h"
+#include "backend/stereo_lm.h"
 #include "core/errors.h"
 #include "core/logging.h"
+#include "core/timer.h"
 
 namespace cslam {
 
@@ -117,6 +119,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
   reader.Read("analytic_jacobians", &analytic_jacobians);
   reader.Read("dense_schur_smaller_side", &dense_schur_smaller_side);
+  reader.Read("native_dense_solver", &native_dense_solver);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -271,17 +274,12 @@ class Solve {
   }
 
   /// Observation of `point` through pose `cam_from_body`; skipped (false) when the point is
-  /// not in front of the camera at the initial state.
+  /// not in front of the camera at the initial state. Kept until Run, which picks the solver.
   bool AddObservation(const StereoObservation& obs, PoseBlock* cam_from_body, double* point) {
     const ReprojectionCost cost(camera_, obs.x, SqrtInformation(obs.cov));
     Eigen::Vector3d r;
     if (!cost(cam_from_body->data(), point, r.data())) return false;
-    ceres::CostFunction* function =
-        options_.analytic_jacobians
-            ? static_cast<ceres::CostFunction*>(new AnalyticReprojectionCost(cost))
-            : new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 7, 3>(
-                  new ReprojectionCost(cost));
-    problem_->AddResidualBlock(function, loss_.get(), cam_from_body->data(), point);
+    pending_.push_back({cam_from_body, point, cost.sqrt_info_, obs.x});
     AddPose(cam_from_body);
     AddPoint(point);
     return true;
@@ -303,14 +301,40 @@ class Solve {
     return true;
   }
 
-  bool Has(const PoseBlock& pose) const { return problem_->HasParameterBlock(pose.data()); }
+  bool Has(const PoseBlock& pose) const { return known_.count(pose.data()) > 0; }
   void HoldConstant(PoseBlock* pose) {
-    if (Has(*pose)) problem_->SetParameterBlockConstant(pose->data());
+    if (!Has(*pose)) return;
+    constant_.insert(pose->data());
+    if (problem_->HasParameterBlock(pose->data()))
+      problem_->SetParameterBlockConstant(pose->data());
   }
 
   /// Runs Levenberg–Marquardt; adds to `summary`.
   void Run(BundleAdjustmentSummary* summary) {
-    if (problem_->NumResidualBlocks() == 0) return;
+    if (pending_.empty() && problem_->NumResidualBlocks() == 0) return;
+    const bool dense = num_poses_ < options_.sparse_schur_min_poses ||
+                       !ceres::IsSparseLinearAlgebraLibraryTypeAvailable(
+                           options_.sparse_library == SparseLibrary::kEigen
+                               ? ceres::EIGEN_SPARSE
+                               : ceres::SUITE_SPARSE);
+    if (options_.native_dense_solver && dense && !coupled_) {
+      RunNative(summary);
+      return;
+    }
+    for (const Pending& o : pending_) {
+      const ReprojectionCost cost(camera_, o.x, o.sqrt_info);
+      ceres::CostFunction* function =
+          options_.analytic_jacobians
+              ? static_cast<ceres::CostFunction*>(new AnalyticReprojectionCost(cost))
+              : new ceres::AutoDiffCostFunction<ReprojectionCost, 3, 7, 3>(
+                    new ReprojectionCost(cost));
+      problem_->AddResidualBlock(function, loss_.get(), o.pose->data(), o.point);
+    }
+    pending_.clear();
+    for (double* pose : pose_blocks_) {
+      if (problem_->GetManifold(pose) == nullptr) problem_->SetManifold(pose, &pose_manifold_);
+      if (constant_.count(pose)) problem_->SetParameterBlockConstant(pose);
+    }
     ceres::Solver::Options so;
     so.max_num_iterations = options_.max_iterations;
     so.function_tolerance = options_.function_tolerance;
@@ -381,6 +405,44 @@ class Solve {
   }
 
  private:
+  /// The same minimisation on backend/stereo_lm.h.
+  void RunNative(BundleAdjustmentSummary* summary) {
+    StereoLmProblem p;
+    std::map<const double*, int> pose_index, point_index;
+    for (double* pose : pose_blocks_) {
+      pose_index[pose] = static_cast<int>(p.poses.size());
+      p.poses.push_back(pose);
+      p.pose_free.push_back(constant_.count(pose) == 0);
+    }
+    for (double* point : points_) {
+      point_index[point] = static_cast<int>(p.points.size());
+      p.points.push_back(point);
+    }
+    p.residuals.reserve(pending_.size());
+    for (const Pending& o : pending_)
+      p.residuals.push_back({pose_index[o.pose->data()], point_index[o.point], o.x, o.sqrt_info});
+    StereoLmOptions lm;
+    lm.kernel = options_.robust_kernel;
+    lm.threshold_chi2 = options_.robust_threshold_chi2;
+    lm.max_iterations = options_.max_iterations;
+    lm.function_tolerance = options_.function_tolerance;
+    const Timer timer;
+    const StereoLmSummary s = SolveStereoLm(camera_, lm, &p);
+    auto log = GetLogger("backend");
+    if (log->should_log(spdlog::level::debug))
+      log->debug("BA solve {}: {} poses, {} points, {} residuals, native dense, {} LM iterations "
+                 "({} accepted), cost {:.6g} -> {:.6g}, {}, {:.3f} s",
+                 label_, num_poses_, points_.size(), p.residuals.size(), s.iterations,
+                 s.successful, s.initial_cost, s.final_cost,
+                 s.converged ? "CONVERGENCE" : "NO_CONVERGENCE", timer.ElapsedS());
+    summary->iterations += s.iterations + 1;  // Ceres counts its iteration 0 too
+    ++summary->num_solves;
+    if (s.failed) {
+      summary->usable = false;
+      log->warn("bundle adjustment solve failed: a point is not in front of a camera");
+    }
+  }
+
   int FreeBlocks(const std::vector<double*>& blocks) const {
     return static_cast<int>(std::count_if(blocks.begin(), blocks.end(), [this](double* b) {
       return !problem_->IsParameterBlockConstant(b);
@@ -388,7 +450,6 @@ class Solve {
   }
   void AddPose(PoseBlock* pose) {
     if (known_.insert(pose->data()).second) {
-      problem_->SetManifold(pose->data(), &pose_manifold_);
       pose_blocks_.push_back(pose->data());
       ++num_poses_;
     }
@@ -403,7 +464,15 @@ class Solve {
   PoseManifold pose_manifold_;
   std::unique_ptr<ceres::LossFunction> loss_;
   std::unique_ptr<ceres::Problem> problem_;
-  std::set<const double*> known_;
+  std::set<const double*> known_, constant_;
+  /// A decoupled observation waiting for Run.
+  struct Pending {
+    PoseBlock* pose;
+    double* point;
+    Eigen::Matrix3d sqrt_info;
+    Eigen::Vector3d x;
+  };
+  std::vector<Pending> pending_;
   std::vector<double*> points_, pose_blocks_;
   int num_poses_ = 0;
   bool coupled_ = false;  // a residual touches two poses: they are not independent

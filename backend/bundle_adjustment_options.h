@@ -80,6 +80,11 @@ struct BundleAdjustmentOptions {
   /// Ceres' automatic differentiation [ours, measured: same values to rounding, fewer
   /// instructions]. The coupled modes' two-pose residual stays automatic.
   bool analytic_jacobians = true;
+  /// Solves that would use DENSE_SCHUR and whose residuals each touch one pose (the decoupled
+  /// ones) run on backend/stereo_lm.h, a Levenberg–Marquardt with the stereo block sizes fixed
+  /// at compile time, instead of Ceres [ours, measured: same minimum, a fraction of the time;
+  /// docs/benchmarks.md, "Native dense solver"].
+  bool native_dense_solver = true;
 
   /// Throws ConfigError naming the field that breaks its rule.
   void Check() const;

@@ -224,13 +224,25 @@ TEST(BundleAdjustment, SolverChoicesReachTheReferenceSolution) {
     change(o);
     variants.push_back({name, o, pose_tol_m, rot_tol_rad, point_tol_m, chi2_rel});
   };
-  add("dense_schur", [](BundleAdjustmentOptions& o) { o.sparse_schur_min_poses = 1000; }, 1e-6,
-      1e-7, 1e-5, 1e-8);
+  add("dense_schur",
+      [](BundleAdjustmentOptions& o) {
+        o.sparse_schur_min_poses = 1000;
+        o.native_dense_solver = false;
+      },
+      1e-6, 1e-7, 1e-5, 1e-8);
   // The moving clusters (30 points in 30 frames) eliminate their poses first by default.
   add("dense_schur_points_first",
       [](BundleAdjustmentOptions& o) {
         o.sparse_schur_min_poses = 1000;
         o.dense_schur_smaller_side = false;
+        o.native_dense_solver = false;
+      },
+      1e-6, 1e-7, 1e-5, 1e-8);
+  // backend/stereo_lm.h: its own LM path, the same minimum.
+  add("native_dense",
+      [](BundleAdjustmentOptions& o) {
+        o.sparse_schur_min_poses = 1000;
+        o.native_dense_solver = true;
       },
       1e-6, 1e-7, 1e-5, 1e-8);
   add("sparse_schur", [](BundleAdjustmentOptions& o) { o.sparse_solver = SparseSolver::kSchur; },

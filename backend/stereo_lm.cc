@@ -1,0 +1,464 @@
+#include "backend/stereo_lm.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "backend/reprojection_error.h"
+
+namespace cslam {
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat63 = Eigen::Matrix<double, 6, 3>;
+using Mat36 = Eigen::Matrix<double, 3, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+// Ceres' defaults for what StereoLmOptions does not expose.
+constexpr double kInitialRadius = 1e4;
+constexpr double kMaxRadius = 1e16;
+constexpr double kMinRadius = 1e-32;
+constexpr double kMinDiagonal = 1e-6;
+constexpr double kMaxDiagonal = 1e32;
+constexpr double kMinRelativeDecrease = 1e-3;
+constexpr double kGradientTolerance = 1e-10;
+constexpr double kParameterTolerance = 1e-8;
+
+/// ρ(s) and ρ'(s) of the kernel; the IRLS weight is ρ' (Ceres' corrector reduces to it when
+/// ρ'' ≤ 0, which holds for Huber and DCS).
+void Kernel(const StereoLmOptions& o, double s, double* rho, double* weight) {
+  switch (o.kernel) {
+    case RobustKernel::kNone:
+      *rho = s;
+      *weight = 1.0;
+      return;
+    case RobustKernel::kHuber: {
+      const double b = o.threshold_chi2;
+      if (s <= b) {
+        *rho = s;
+        *weight = 1.0;
+      } else {
+        const double r = std::sqrt(s);
+        const double a = std::sqrt(b);
+        *rho = 2.0 * a * r - b;
+        *weight = a / r;
+      }
+      return;
+    }
+    case RobustKernel::kDcs: {
+      const double phi = o.threshold_chi2;
+      if (s <= phi) {
+        *rho = s;
+        *weight = 1.0;
+      } else {
+        const double d = phi + s;
+        *rho = 3.0 * phi - 4.0 * phi * phi / d;
+        *weight = 4.0 * phi * phi / (d * d);
+      }
+      return;
+    }
+  }
+}
+
+/// The linearisation at the current state, kept while rejected steps re-solve it.
+struct Linearisation {
+  std::vector<Mat6> h_pose;             // [free pose]
+  std::vector<Vec6> g_pose;
+  std::vector<Mat3> h_point;            // [point]
+  std::vector<Eigen::Vector3d> g_point;
+  std::vector<Mat63> w;                 // [residual] J_poseᵀ J_point (weighted); zero if held
+};
+
+class Solver {
+ public:
+  Solver(const StereoCamera& camera, const StereoLmOptions& options, StereoLmProblem* problem)
+      : camera_(camera), options_(options), p_(*problem) {
+    free_index_.assign(p_.poses.size(), -1);
+    for (size_t i = 0; i < p_.poses.size(); ++i)
+      if (p_.pose_free[i]) free_index_[i] = num_free_++;
+    // Residuals grouped by point (CSR) for the elimination.
+    const int n = static_cast<int>(p_.points.size());
+    start_.assign(n + 1, 0);
+    for (const StereoLmResidual& r : p_.residuals) ++start_[r.point + 1];
+    for (int i = 0; i < n; ++i) start_[i + 1] += start_[i];
+    order_.resize(p_.residuals.size());
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (size_t k = 0; k < p_.residuals.size(); ++k) order_[fill[p_.residuals[k].point]++] = static_cast<int>(k);
+    // ... and the residuals through free poses grouped by pose.
+    pose_start_.assign(num_free_ + 1, 0);
+    for (const StereoLmResidual& r : p_.residuals)
+      if (free_index_[r.pose] >= 0) ++pose_start_[free_index_[r.pose] + 1];
+    for (int f = 0; f < num_free_; ++f) pose_start_[f + 1] += pose_start_[f];
+    pose_order_.resize(pose_start_[num_free_]);
+    fill.assign(pose_start_.begin(), pose_start_.end() - 1);
+    for (size_t k = 0; k < p_.residuals.size(); ++k) {
+      const int f = free_index_[p_.residuals[k].pose];
+      if (f >= 0) pose_order_[fill[f]++] = static_cast<int>(k);
+    }
+  }
+
+  StereoLmSummary Run() {
+    StereoLmSummary summary;
+    double cost;
+    if (!Cost(p_.poses, p_.points, &cost)) {
+      summary.failed = true;
+      return summary;
+    }
+    summary.initial_cost = summary.final_cost = cost;
+    if (p_.residuals.empty()) return summary;
+    double radius = kInitialRadius, decrease_factor = 2.0;
+    Linearise();
+    while (summary.iterations < options_.max_iterations) {
+      if (MaxGradient() <= kGradientTolerance) {
+        summary.converged = true;
+        break;
+      }
+      ++summary.iterations;
+      std::vector<Vec6> d_pose;
+      std::vector<Eigen::Vector3d> d_point;
+      double model_change = 0.0;
+      const bool solved = SolveStep(1.0 / radius, &d_pose, &d_point, &model_change);
+      double candidate_cost = 0.0;
+      bool valid = solved && model_change > 0.0;
+      if (valid) {
+        if (StepNorm(d_pose, d_point) <= kParameterTolerance * (StateNorm() + kParameterTolerance)) {
+          summary.converged = true;
+          break;
+        }
+        Apply(d_pose, d_point);
+        valid = Cost(candidate_poses_, candidate_points_, &candidate_cost);
+      }
+      if (valid && std::abs(cost - candidate_cost) <= options_.function_tolerance * cost) {
+        if (candidate_cost < cost) {
+          Commit();
+          cost = candidate_cost;
+          ++summary.successful;
+        }
+        summary.converged = true;
+        break;
+      }
+      const double quality = valid ? (cost - candidate_cost) / model_change : -1.0;
+      if (valid && quality > kMinRelativeDecrease) {
+        Commit();
+        cost = candidate_cost;
+        ++summary.successful;
+        radius = std::min(kMaxRadius,
+                          radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * quality - 1.0, 3)));
+        decrease_factor = 2.0;
+        Linearise();
+      } else {
+        radius /= decrease_factor;
+        decrease_factor *= 2.0;
+        if (radius < kMinRadius) break;
+      }
+    }
+    summary.final_cost = cost;
+    return summary;
+  }
+
+ private:
+  /// ½ Σ ρ(‖r‖²) at the given state; false when a point is behind a camera.
+  bool Cost(const std::vector<double*>& poses, const std::vector<double*>& points,
+            double* cost) const {
+    double sum = 0.0;
+    for (const StereoLmResidual& r : p_.residuals) {
+      const double* pose = poses[r.pose];
+      Eigen::Vector3d e;
+      if (!StereoReprojectionWithJacobians(camera_, r.x, r.sqrt_info, pose, pose + 4,
+                                           points[r.point], e.data(), nullptr, nullptr, nullptr))
+        return false;
+      double rho, weight;
+      Kernel(options_, e.squaredNorm(), &rho, &weight);
+      sum += rho;
+    }
+    *cost = 0.5 * sum;
+    return true;
+  }
+
+  void Linearise() {
+    Linearisation& lin = lin_;
+    lin.h_pose.assign(num_free_, Mat6::Zero());
+    lin.g_pose.assign(num_free_, Vec6::Zero());
+    lin.h_point.assign(p_.points.size(), Mat3::Zero());
+    lin.g_point.assign(p_.points.size(), Eigen::Vector3d::Zero());
+    lin.w.resize(p_.residuals.size());
+    for (size_t k = 0; k < p_.residuals.size(); ++k) {
+      const StereoLmResidual& r = p_.residuals[k];
+      const double* pose = p_.poses[r.pose];
+      const double* point = p_.points[r.point];
+      Eigen::Vector3d e;
+      RowMat3 d_t, d_point;
+      StereoReprojectionWithJacobians(camera_, r.x, r.sqrt_info, pose, pose + 4, point, e.data(),
+                                      nullptr, d_t.data(), d_point.data());
+      double rho, weight;
+      Kernel(options_, e.squaredNorm(), &rho, &weight);
+      const Mat3 jl = d_point;
+      lin.h_point[r.point].noalias() += weight * jl.transpose() * jl;
+      lin.g_point[r.point].noalias() += weight * jl.transpose() * e;
+      const int f = free_index_[r.pose];
+      if (f < 0) {
+        lin.w[k].setZero();
+        continue;
+      }
+      // Left perturbation R ← Exp(φ) R: ∂(R X + t)/∂φ = −[R X]×, ∂/∂t = I, and ∂r/∂p_cam = d_t.
+      const Eigen::Map<const Eigen::Quaterniond> q(pose);
+      const Eigen::Vector3d rx = q * Eigen::Map<const Eigen::Vector3d>(point);
+      Mat36 jp;
+      jp.leftCols<3>() = d_t * Skew(rx) * -1.0;
+      jp.rightCols<3>() = d_t;
+      lin.h_pose[f].noalias() += weight * jp.transpose() * jp;
+      lin.g_pose[f].noalias() += weight * jp.transpose() * e;
+      lin.w[k].noalias() = weight * jp.transpose() * jl;
+    }
+  }
+
+  static Mat3 Skew(const Eigen::Vector3d& v) {
+    Mat3 s;
+    s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+    return s;
+  }
+
+  static double Damping(double h, double mu) {
+    return std::clamp(h, kMinDiagonal, kMaxDiagonal) * mu;
+  }
+
+  /// Solves (H + μ diag H) δ = −g by eliminating the points; false if the reduced camera
+  /// system is not positive definite. `model_change` = L(0) − L(δ) of the linear model.
+  bool SolveStep(double mu, std::vector<Vec6>* d_pose, std::vector<Eigen::Vector3d>* d_point,
+                 double* model_change) const {
+    // Every residual touches one pose, so either side can be eliminated; factor the smaller
+    // reduced system (a moving cluster: a few points in 30 frames).
+    const int np = static_cast<int>(p_.points.size());
+    const bool ok = 3 * np < 6 * num_free_ ? EliminatePoses(mu, d_pose, d_point)
+                                           : EliminatePoints(mu, d_pose, d_point);
+    if (!ok) return false;
+    const Linearisation& lin = lin_;
+    // (H + D) δ = −g, so δᵀHδ = −gᵀδ − δᵀDδ and L(0) − L(δ) = −gᵀδ − ½δᵀHδ = ½(δᵀDδ − gᵀδ).
+    double g_dot = 0.0, d_dot = 0.0;
+    for (int f = 0; f < num_free_; ++f) {
+      const Vec6& d = (*d_pose)[f];
+      g_dot += lin.g_pose[f].dot(d);
+      for (int j = 0; j < 6; ++j) d_dot += Damping(lin.h_pose[f](j, j), mu) * d(j) * d(j);
+    }
+    for (int l = 0; l < np; ++l) {
+      const Eigen::Vector3d& d = (*d_point)[l];
+      g_dot += lin.g_point[l].dot(d);
+      for (int j = 0; j < 3; ++j) d_dot += Damping(lin.h_point[l](j, j), mu) * d(j) * d(j);
+    }
+    *model_change = 0.5 * (d_dot - g_dot);
+    return std::isfinite(*model_change);
+  }
+
+  /// Points eliminated: a dense 6·(free poses) system.
+  bool EliminatePoints(double mu, std::vector<Vec6>* d_pose,
+                       std::vector<Eigen::Vector3d>* d_point) const {
+    const Linearisation& lin = lin_;
+    const int np = static_cast<int>(p_.points.size());
+    const int m = 6 * num_free_;
+    Eigen::MatrixXd s = Eigen::MatrixXd::Zero(m, m);
+    Eigen::VectorXd rhs(m);
+    for (int f = 0; f < num_free_; ++f) {
+      Mat6 h = lin.h_pose[f];
+      for (int j = 0; j < 6; ++j) h(j, j) += Damping(h(j, j), mu);
+      s.block<6, 6>(6 * f, 6 * f) = h;
+      rhs.segment<6>(6 * f) = -lin.g_pose[f];
+    }
+    std::vector<Mat3> inv(np);
+    std::vector<Mat63> v;
+    std::vector<int> frames;
+    for (int l = 0; l < np; ++l) {
+      Mat3 a = lin.h_point[l];
+      for (int j = 0; j < 3; ++j) a(j, j) += Damping(a(j, j), mu);
+      Eigen::LLT<Mat3> llt(a);
+      if (llt.info() != Eigen::Success) return false;
+      inv[l] = llt.solve(Mat3::Identity());
+      v.clear();
+      frames.clear();
+      for (int i = start_[l]; i < start_[l + 1]; ++i) {
+        const int k = order_[i];
+        const int f = free_index_[p_.residuals[k].pose];
+        if (f < 0) continue;
+        frames.push_back(f);
+        v.push_back(lin.w[k] * inv[l]);
+      }
+      const Eigen::Vector3d gl = -lin.g_point[l];
+      for (size_t a_i = 0; a_i < frames.size(); ++a_i)
+        rhs.segment<6>(6 * frames[a_i]).noalias() -= v[a_i] * gl;
+      // S_ab −= V_a W_bᵀ over the point's observations through free poses (upper triangle;
+      // the lower one is filled below).
+      int a_i = 0;
+      for (int i = start_[l]; i < start_[l + 1]; ++i) {
+        const int ka = order_[i];
+        const int fa = free_index_[p_.residuals[ka].pose];
+        if (fa < 0) continue;
+        for (int j = start_[l]; j < start_[l + 1]; ++j) {
+          const int kb = order_[j];
+          const int fb = free_index_[p_.residuals[kb].pose];
+          if (fb >= fa) s.block<6, 6>(6 * fa, 6 * fb).noalias() -= v[a_i] * lin.w[kb].transpose();
+        }
+        ++a_i;
+      }
+    }
+    d_pose->assign(num_free_, Vec6::Zero());
+    if (m > 0) {
+      Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+      if (llt.info() != Eigen::Success) return false;
+      const Eigen::VectorXd x = llt.solve(rhs);
+      if (!x.allFinite()) return false;
+      for (int f = 0; f < num_free_; ++f) (*d_pose)[f] = x.segment<6>(6 * f);
+    }
+    d_point->assign(np, Eigen::Vector3d::Zero());
+    for (int l = 0; l < np; ++l) {
+      Eigen::Vector3d b = -lin.g_point[l];
+      for (int i = start_[l]; i < start_[l + 1]; ++i) {
+        const int k = order_[i];
+        const int f = free_index_[p_.residuals[k].pose];
+        if (f >= 0) b.noalias() -= lin.w[k].transpose() * (*d_pose)[f];
+      }
+      (*d_point)[l] = inv[l] * b;
+    }
+    return true;
+  }
+
+  /// Free poses eliminated: a dense 3·points system.
+  bool EliminatePoses(double mu, std::vector<Vec6>* d_pose,
+                      std::vector<Eigen::Vector3d>* d_point) const {
+    const Linearisation& lin = lin_;
+    const int np = static_cast<int>(p_.points.size());
+    const int m = 3 * np;
+    Eigen::MatrixXd s = Eigen::MatrixXd::Zero(m, m);
+    Eigen::VectorXd rhs(m);
+    for (int l = 0; l < np; ++l) {
+      Mat3 a = lin.h_point[l];
+      for (int j = 0; j < 3; ++j) a(j, j) += Damping(a(j, j), mu);
+      s.block<3, 3>(3 * l, 3 * l) = a;
+      rhs.segment<3>(3 * l) = -lin.g_point[l];
+    }
+    std::vector<Mat6> inv(num_free_);
+    std::vector<Mat36> u;
+    for (int f = 0; f < num_free_; ++f) {
+      Mat6 b = lin.h_pose[f];
+      for (int j = 0; j < 6; ++j) b(j, j) += Damping(b(j, j), mu);
+      Eigen::LLT<Mat6> llt(b);
+      if (llt.info() != Eigen::Success) return false;
+      inv[f] = llt.solve(Mat6::Identity());
+      u.clear();
+      const Vec6 gf = -lin.g_pose[f];
+      for (int i = pose_start_[f]; i < pose_start_[f + 1]; ++i) {
+        const int k = pose_order_[i];
+        u.push_back(lin.w[k].transpose() * inv[f]);
+        rhs.segment<3>(3 * p_.residuals[k].point).noalias() -= u.back() * gf;
+      }
+      // S_ab −= U_a W_b over the pose's observed point pairs (upper triangle).
+      for (int i = pose_start_[f]; i < pose_start_[f + 1]; ++i) {
+        const int la = p_.residuals[pose_order_[i]].point;
+        for (int j = pose_start_[f]; j < pose_start_[f + 1]; ++j) {
+          const int kb = pose_order_[j];
+          const int lb = p_.residuals[kb].point;
+          if (lb >= la)
+            s.block<3, 3>(3 * la, 3 * lb).noalias() -= u[i - pose_start_[f]] * lin.w[kb];
+        }
+      }
+    }
+    Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+    if (llt.info() != Eigen::Success) return false;
+    const Eigen::VectorXd x = llt.solve(rhs);
+    if (!x.allFinite()) return false;
+    d_point->assign(np, Eigen::Vector3d::Zero());
+    for (int l = 0; l < np; ++l) (*d_point)[l] = x.segment<3>(3 * l);
+    d_pose->assign(num_free_, Vec6::Zero());
+    for (int f = 0; f < num_free_; ++f) {
+      Vec6 b = -lin.g_pose[f];
+      for (int i = pose_start_[f]; i < pose_start_[f + 1]; ++i) {
+        const int k = pose_order_[i];
+        b.noalias() -= lin.w[k] * (*d_point)[p_.residuals[k].point];
+      }
+      (*d_pose)[f] = inv[f] * b;
+    }
+    return true;
+  }
+
+  /// The candidate state x ⊞ δ in scratch storage (the problem keeps x until Commit).
+  void Apply(const std::vector<Vec6>& d_pose, const std::vector<Eigen::Vector3d>& d_point) {
+    pose_store_.resize(p_.poses.size());
+    candidate_poses_.resize(p_.poses.size());
+    for (size_t i = 0; i < p_.poses.size(); ++i) {
+      std::copy(p_.poses[i], p_.poses[i] + 7, pose_store_[i].begin());
+      candidate_poses_[i] = pose_store_[i].data();
+      const int f = free_index_[i];
+      if (f < 0) continue;
+      const Vec6& d = d_pose[f];
+      const Eigen::Vector3d phi = d.head<3>();
+      const double angle = phi.norm();
+      const Eigen::Quaterniond dq =
+          angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle))
+                    : Eigen::Quaterniond::Identity();
+      Eigen::Map<Eigen::Quaterniond> q(pose_store_[i].data());
+      q = (dq * q).normalized();
+      for (int j = 0; j < 3; ++j) pose_store_[i][4 + j] += d(3 + j);
+    }
+    point_store_.resize(p_.points.size());
+    candidate_points_.resize(p_.points.size());
+    for (size_t l = 0; l < p_.points.size(); ++l) {
+      for (int j = 0; j < 3; ++j) point_store_[l][j] = p_.points[l][j] + d_point[l](j);
+      candidate_points_[l] = point_store_[l].data();
+    }
+  }
+
+  void Commit() {
+    for (size_t i = 0; i < p_.poses.size(); ++i)
+      std::copy(pose_store_[i].begin(), pose_store_[i].end(), p_.poses[i]);
+    for (size_t l = 0; l < p_.points.size(); ++l)
+      std::copy(point_store_[l].begin(), point_store_[l].end(), p_.points[l]);
+  }
+
+  double MaxGradient() const {
+    double g = 0.0;
+    for (const Vec6& v : lin_.g_pose) g = std::max(g, v.cwiseAbs().maxCoeff());
+    for (const Eigen::Vector3d& v : lin_.g_point) g = std::max(g, v.cwiseAbs().maxCoeff());
+    return g;
+  }
+
+  static double StepNorm(const std::vector<Vec6>& d_pose,
+                         const std::vector<Eigen::Vector3d>& d_point) {
+    double s = 0.0;
+    for (const Vec6& d : d_pose) s += d.squaredNorm();
+    for (const Eigen::Vector3d& d : d_point) s += d.squaredNorm();
+    return std::sqrt(s);
+  }
+
+  double StateNorm() const {
+    double s = 0.0;
+    for (size_t i = 0; i < p_.poses.size(); ++i)
+      if (free_index_[i] >= 0)
+        for (int j = 0; j < 7; ++j) s += p_.poses[i][j] * p_.poses[i][j];
+    for (const double* x : p_.points)
+      for (int j = 0; j < 3; ++j) s += x[j] * x[j];
+    return std::sqrt(s);
+  }
+
+  const StereoCamera& camera_;
+  const StereoLmOptions& options_;
+  StereoLmProblem& p_;
+  std::vector<int> free_index_;  // [pose] → index among the free poses, or −1
+  int num_free_ = 0;
+  std::vector<int> start_, order_;  // residuals by point
+  std::vector<int> pose_start_, pose_order_;  // residuals through free poses, by free pose
+  Linearisation lin_;
+  std::vector<std::array<double, 7>> pose_store_;
+  std::vector<std::array<double, 3>> point_store_;
+  std::vector<double*> candidate_poses_, candidate_points_;
+};
+
+}  // namespace
+
+StereoLmSummary SolveStereoLm(const StereoCamera& camera, const StereoLmOptions& options,
+                              StereoLmProblem* problem) {
+  return Solver(camera, options, problem).Run();
+}
+
+}  // namespace cslam

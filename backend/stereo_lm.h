@@ -1,0 +1,59 @@
+#pragma once
+// A dense-Schur Levenberg–Marquardt solver written for the decoupled bundle adjustment's one
+// shape of problem: stereo residuals r = S (x − π(R X + t)) that each touch one pose (7
+// doubles: Eigen quaternion x, y, z, w, then t) and one point (3 doubles).
+//
+// Why not Ceres here [ours, measured]: a warm online window spends most of its time in Ceres'
+// DENSE_SCHUR, and Ceres has no template specialisation for 3-row residuals on 6-dof poses, so
+// it runs its dynamic-size eliminator and locks a mutex per Schur cell
+// (docs/benchmarks.md, "Native dense solver"). With the block sizes fixed at compile time the
+// same step costs a fraction. The step is Ceres' own: LM on the tangent space (rotation
+// perturbed on the left), damping by the Jacobian's column scale, Ceres' trust-region update,
+// and its function-tolerance test, so the two solvers reach the same minimum.
+#include <Eigen/Core>
+#include <vector>
+
+#include "backend/bundle_adjustment_options.h"
+#include "core/stereo_camera.h"
+
+namespace cslam {
+
+/// One whitened stereo observation of point `point` through pose `pose`.
+struct StereoLmResidual {
+  int pose = 0;
+  int point = 0;
+  Eigen::Vector3d x;          ///< measured (uL, vL, uR)
+  Eigen::Matrix3d sqrt_info;  ///< S with SᵀS = Σ⁻¹
+};
+
+/// The unknowns, in place: each pose 7 doubles, each point 3; `pose_free[i]` false holds pose i.
+struct StereoLmProblem {
+  std::vector<double*> poses;
+  std::vector<bool> pose_free;
+  std::vector<double*> points;
+  std::vector<StereoLmResidual> residuals;
+};
+
+/// Stopping and kernel settings (the Ceres solve's equivalents).
+struct StereoLmOptions {
+  RobustKernel kernel = RobustKernel::kHuber;
+  double threshold_chi2 = 7.815;  ///< Huber: quadratic below; DCS: Φ
+  int max_iterations = 50;        ///< LM iterations, rejected ones included
+  double function_tolerance = 1e-6;
+};
+
+/// What the solve did.
+struct StereoLmSummary {
+  int iterations = 0;
+  int successful = 0;
+  double initial_cost = 0.0;  ///< ½ Σ ρ(‖r‖²), as Ceres reports it
+  double final_cost = 0.0;
+  bool converged = false;
+  bool failed = false;  ///< the initial state could not be evaluated
+};
+
+/// Minimises ½ Σ ρ(‖r‖²) over the free poses and all points, writing the result in place.
+StereoLmSummary SolveStereoLm(const StereoCamera& camera, const StereoLmOptions& options,
+                              StereoLmProblem* problem);
+
+}  // namespace cslam
