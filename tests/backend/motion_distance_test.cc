@@ -230,7 +230,7 @@ TEST(MotionDistance, RigidPairIsTheSameInAnyCameraMotion) {
 }
 
 // Outdoor, 30 frames (one online window): two cars in one lane at one speed, 16 m apart,
-// 10-30 m ahead of a camera driving behind them — what the re-clustering of a warm window
+// 10-36 m ahead of a camera driving behind them — what the re-clustering of a warm window
 // sees once the static landmarks are assigned. Over so short a window their motions are the
 // same rigid motion to within the depth noise (σ_z ≈ 0.5-6 m per frame at that range) and they
 // overlap in the image, so Eq. 1 (motion + image prior) lumps them; their mean separation
