@@ -181,6 +181,7 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
     for (int l : a.outliers) outliers[l] = raw[l];
     ClusterSlamOptions o = options;
     o.distance.alpha = options.assignment.outlier_alpha;
+    o.distance.max_extent_m = options.assignment.outlier_max_extent_m;
     o.consensus.min_cluster_size = options.assignment.min_outlier_cluster;
     const std::vector<int> groups = ClusterLandmarks(table, outliers, range, o, nullptr);
     const int base = next.empty() ? 0 : *std::max_element(next.begin(), next.end()) + 1;

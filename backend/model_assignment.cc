@@ -24,6 +24,9 @@ void ModelAssignmentOptions::Check() const {
               "must be >= 0", merge_slack);
   CheckOption(std::isfinite(outlier_alpha) && outlier_alpha >= 0, "model_assignment.outlier_alpha",
               "must be >= 0", outlier_alpha);
+  CheckOption(std::isfinite(outlier_max_extent_m) && outlier_max_extent_m >= 0,
+              "model_assignment.outlier_max_extent_m", "must be >= 0 m (0 = off)",
+              outlier_max_extent_m);
   CheckOption(min_outlier_cluster >= 1, "model_assignment.min_outlier_cluster", "must be >= 1",
               min_outlier_cluster);
   CheckOption(max_dropped_samples >= 0, "model_assignment.max_dropped_samples", "must be >= 0",
@@ -53,6 +56,7 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("merge_slack", &merge_slack);
   reader.Read("outlier_alpha", &outlier_alpha);
   reader.Read("min_outlier_cluster", &min_outlier_cluster);
+  reader.Read("outlier_max_extent_m", &outlier_max_extent_m);
   reader.Read("max_dropped_samples", &max_dropped_samples);
   reader.Read("sample_gate_chi2", &sample_gate_chi2);
   reader.Read("min_cluster_landmarks", &min_cluster_landmarks);

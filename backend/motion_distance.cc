@@ -16,6 +16,8 @@ void MotionDistanceOptions::Check() const {
               "must be >= 2 (a variance needs two frames)", min_co_observations);
   CheckOption(std::isfinite(min_variance_m2) && min_variance_m2 >= 1e-12 && min_variance_m2 <= 1.0,
               "motion_distance.min_variance_m2", "must be in [1e-12, 1] m^2", min_variance_m2);
+  CheckOption(std::isfinite(max_extent_m) && max_extent_m >= 0, "motion_distance.max_extent_m",
+              "must be >= 0 m (0 = off)", max_extent_m);
 }
 
 void MotionDistanceOptions::Load(OptionsReader& reader) {
@@ -25,6 +27,7 @@ void MotionDistanceOptions::Load(OptionsReader& reader) {
   reader.Read("use_image_prior", &use_image_prior);
   reader.Read("mean_over_frames", &mean_over_frames);
   reader.Read("min_variance_m2", &min_variance_m2);
+  reader.Read("max_extent_m", &max_extent_m);
 }
 
 namespace {
@@ -309,7 +312,16 @@ SparseDistances ComputeMotionDistances(const TrackletTable& table, const PointTr
       for (int k = 0; k < len; ++k) spread += w[k] * (lt[k] - l_star) * (lt[k] - l_star);
       double first = spread + log_sum;
       if (options.mean_over_frames) first /= count;
-      out.entries.push_back({std::min(i, j), std::max(i, j), first + options.alpha * double(prior)});
+      // Two points of one small body cannot be farther apart than its extent: l* beyond it,
+      // weighed by l*'s information Σ w (w = 1/σ), is evidence of two bodies however alike
+      // their motions are over a short chunk (two cars in one lane at one speed).
+      double extent = 0.0;
+      if (options.max_extent_m > 0) {
+        const double beyond = std::max(0.0, s1 / s0 - options.max_extent_m);
+        extent = beyond * beyond * s0;
+      }
+      out.entries.push_back(
+          {std::min(i, j), std::max(i, j), first + options.alpha * double(prior) + extent});
     }
   }
   return out;

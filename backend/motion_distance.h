@@ -19,6 +19,9 @@ struct MotionDistanceOptions {
   bool mean_over_frames = true;   ///< [ours] first term averaged over frames (false: summed)
   double min_variance_m2 = 1e-6;  ///< [ours] floor on σᵢⱼₜ, m², keeps log σ finite (also the
                                   ///< σ of two coincident points, where Eq. 2 is undefined)
+  double max_extent_m = 0.0;      ///< [ours] 0 = off. Else adds (max(0, l* − R))² Σₜ 1/σᵢⱼₜ:
+                                  ///< the χ² of the pair's mean distance l* lying beyond R m,
+                                  ///< for groups known to be small bodies (re-clustered movers)
   void Check() const;
   void Load(OptionsReader& reader);
 };
