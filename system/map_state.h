@@ -57,6 +57,12 @@ struct MapStateOptions {
   /// many landmarks; smaller ones leave their landmarks as the map had them (spec §7: dropped
   /// by history). 1 creates every cluster.
   int min_new_cluster_landmarks = 1;
+  /// Camera poses of known frames the window re-estimates [ours]: 0 keeps the first
+  /// estimate of every frame (the window's newest frames, the least constrained); k ≥ 1 chains
+  /// the window to the map at its frame k − 1 and replaces every later frame's pose with the
+  /// window's, so a frame keeps the estimate of the window where k − 1 older frames constrain
+  /// it and up to window − k newer ones (a fixed-lag smoother).
+  int refine_camera_from = 0;
   void Check() const;
   void Load(OptionsReader& r);
 };
