@@ -87,8 +87,9 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   CSLAM_CHECK(static_cast<int>(window.world_from_cam.size()) == window.range.size(),
               "window estimate needs one camera pose per frame");
 
-  // Chain the window to the newest map pose it shares: the window's own first frames were
-  // estimated with less context than the map's older windows had.
+  // Chain the window to the newest map pose it shares (with refine_camera_from: the newest up
+  // to the window's frame k − 1, later ones are re-estimated here): the window's own first
+  // frames were estimated with less context than the map's older windows had.
   Pose map_from_window = Pose::Identity();
   const int newest_anchor =
       options_.refine_camera_from > 0
