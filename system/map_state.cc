@@ -24,6 +24,8 @@ void MapStateOptions::Check() const {
               "must be positive (RMS misplacement / mean range to the camera)", motion_tolerance);
   CheckOption(min_new_cluster_landmarks >= 1, "map.min_new_cluster_landmarks",
               "must be at least 1", min_new_cluster_landmarks);
+  CheckOption(refine_camera_from >= 0, "map.refine_camera_from", "must be >= 0 (0: off)",
+              refine_camera_from);
 }
 
 void MapStateOptions::Load(OptionsReader& r) {
@@ -37,6 +39,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
   r.Read("stitch_by_motion", &stitch_by_motion);
+  r.Read("refine_camera_from", &refine_camera_from);
   r.Finish();
 }
 
@@ -84,10 +87,15 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   CSLAM_CHECK(static_cast<int>(window.world_from_cam.size()) == window.range.size(),
               "window estimate needs one camera pose per frame");
 
-  // Chain the window to the newest map pose it shares: the window's own first frames were
-  // estimated with less context than the map's older windows had.
+  // Chain the window to the newest map pose it shares (with refine_camera_from: the newest up
+  // to the window's frame k − 1, later ones are re-estimated here): the window's own first
+  // frames were estimated with less context than the map's older windows had.
   Pose map_from_window = Pose::Identity();
-  for (int f = std::min(window.range.end, num_frames()) - 1; f >= begin; --f) {
+  const int newest_anchor =
+      options_.refine_camera_from > 0
+          ? std::min(window.range.end, begin + options_.refine_camera_from)
+          : window.range.end;
+  for (int f = std::min(newest_anchor, num_frames()) - 1; f >= begin; --f) {
     if (world_from_cam_[f]) {
       info.anchor_frame = f;
       map_from_window = *world_from_cam_[f] * window.world_from_cam[f - begin].inverse();
@@ -108,7 +116,9 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
                               window.range.end - 1);
   }
   for (int f = begin; f < window.range.end; ++f) {
-    if (f >= num_frames() || !world_from_cam_[f])
+    const bool refine = options_.refine_camera_from > 0 && f > info.anchor_frame &&
+                        info.anchor_frame >= 0;
+    if (f >= num_frames() || !world_from_cam_[f] || refine)
       SetCameraPose(f, map_from_window * window.world_from_cam[f - begin]);
   }
 

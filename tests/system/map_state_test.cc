@@ -313,5 +313,51 @@ TEST(MapState, AWindowWithoutSharedFramesIsMarkedAsAGap) {
   EXPECT_TRUE(map.world_from_cam()[69].has_value());
 }
 
+// Window 0 gets its newest five camera poses 0.3 m and 0.02 rad wrong (the least constrained
+// frames of a real window); window 1, which sees them with 25 frames of context, is exact.
+std::vector<std::optional<Pose>> CameraAfterABadWindowTip(int refine_camera_from) {
+  const World w = MakeWorld(40);
+  MapStateOptions options;
+  options.refine_camera_from = refine_camera_from;
+  MapState map(options);
+  MotionEstimate first = PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}});
+  for (int f = 25; f < 30; ++f) first.world_from_cam[f] = first.world_from_cam[f] * MakePose(0.02, 0.3, 0, 0);
+  map.Integrate(first);
+  const WindowIntegration info = map.Integrate(PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}}));
+  EXPECT_FALSE(info.gap);
+  EXPECT_EQ(info.anchor_frame, refine_camera_from > 0 ? 5 + refine_camera_from - 1 : 29);
+  return map.world_from_cam();
+}
+
+TEST(MapState, RefiningCameraPosesTakesTheLaterWindowsEstimateOfKnownFrames) {
+  const World w = MakeWorld(40);
+  const std::vector<std::optional<Pose>> refined = CameraAfterABadWindowTip(1);
+  ASSERT_EQ(refined.size(), 35u);
+  for (int f = 0; f < 35; ++f) {
+    ASSERT_TRUE(refined[f].has_value()) << f;
+    EXPECT_TRUE(testing::PoseNear(*refined[f], w.world_from_cam[f], 1e-9, 1e-9)) << f;
+  }
+}
+
+TEST(MapState, WithoutRefinementAFramesFirstEstimateStaysAndLaterFramesChainToIt) {
+  const World w = MakeWorld(40);
+  const std::vector<std::optional<Pose>> kept = CameraAfterABadWindowTip(0);
+  ASSERT_EQ(kept.size(), 35u);
+  for (int f = 25; f < 35; ++f) {
+    ASSERT_TRUE(kept[f].has_value()) << f;
+    EXPECT_FALSE(testing::PoseNear(*kept[f], w.world_from_cam[f], 0.005, 0.1)) << f;
+  }
+  // Refining from the middle of the window repairs the bad tip too (anchor at frame 19).
+  const std::vector<std::optional<Pose>> mid = CameraAfterABadWindowTip(15);
+  for (int f = 0; f < 35; ++f)
+    EXPECT_TRUE(testing::PoseNear(*mid[f], w.world_from_cam[f], 1e-9, 1e-9)) << f;
+}
+
+TEST(MapState, OptionsRejectANegativeRefinementIndex) {
+  MapStateOptions o;
+  o.refine_camera_from = -1;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
 }  // namespace
 }  // namespace cslam
