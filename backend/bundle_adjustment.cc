@@ -312,12 +312,12 @@ class Solve {
   /// Runs Levenberg–Marquardt; adds to `summary`.
   void Run(BundleAdjustmentSummary* summary) {
     if (pending_.empty() && problem_->NumResidualBlocks() == 0) return;
-    const bool dense = num_poses_ < options_.sparse_schur_min_poses ||
-                       !ceres::IsSparseLinearAlgebraLibraryTypeAvailable(
-                           options_.sparse_library == SparseLibrary::kEigen
-                               ? ceres::EIGEN_SPARSE
-                               : ceres::SUITE_SPARSE);
-    if (options_.native_dense_solver && dense && !coupled_) {
+    const ceres::SparseLinearAlgebraLibraryType library =
+        options_.sparse_library == SparseLibrary::kEigen ? ceres::EIGEN_SPARSE
+                                                         : ceres::SUITE_SPARSE;
+    const bool sparse = num_poses_ >= options_.sparse_schur_min_poses &&
+                        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library);
+    if (options_.native_dense_solver && !sparse && !coupled_) {
       RunNative(summary);
       return;
     }
@@ -341,11 +341,6 @@ class Solve {
     so.num_threads = options_.num_threads;
     so.logging_type = ceres::SILENT;
     so.minimizer_progress_to_stdout = false;
-    const ceres::SparseLinearAlgebraLibraryType library =
-        options_.sparse_library == SparseLibrary::kEigen ? ceres::EIGEN_SPARSE
-                                                         : ceres::SUITE_SPARSE;
-    const bool sparse = num_poses_ >= options_.sparse_schur_min_poses &&
-                        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library);
     so.linear_solver_type = ceres::DENSE_SCHUR;
     if (sparse) {
       switch (options_.sparse_solver) {

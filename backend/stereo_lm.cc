@@ -269,7 +269,6 @@ class Solver {
     }
     std::vector<Mat3> inv(np);
     std::vector<Mat63> v;
-    std::vector<int> frames;
     for (int l = 0; l < np; ++l) {
       Mat3 a = lin.h_point[l];
       for (int j = 0; j < 3; ++j) a(j, j) += Damping(a(j, j), mu);
@@ -277,17 +276,14 @@ class Solver {
       if (llt.info() != Eigen::Success) return false;
       inv[l] = llt.solve(Mat3::Identity());
       v.clear();
-      frames.clear();
+      const Eigen::Vector3d gl = -lin.g_point[l];
       for (int i = start_[l]; i < start_[l + 1]; ++i) {
         const int k = order_[i];
         const int f = free_index_[p_.residuals[k].pose];
         if (f < 0) continue;
-        frames.push_back(f);
         v.push_back(lin.w[k] * inv[l]);
+        rhs.segment<6>(6 * f).noalias() -= v.back() * gl;
       }
-      const Eigen::Vector3d gl = -lin.g_point[l];
-      for (size_t a_i = 0; a_i < frames.size(); ++a_i)
-        rhs.segment<6>(6 * frames[a_i]).noalias() -= v[a_i] * gl;
       // S_ab −= V_a W_bᵀ over the point's observations through free poses (upper triangle;
       // the lower one is filled below).
       int a_i = 0;
