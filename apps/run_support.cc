@@ -3,6 +3,7 @@
 #include <spdlog/sinks/basic_file_sink.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -146,6 +147,17 @@ int FinishRun(const RunInput& input, const PipelineResult& result, const Pipelin
   if (result.error) std::rethrow_exception(result.error);
   if (stop.signal() == SIGINT) return kExitSigint;
   if (stop.signal() == SIGTERM) return kExitSigterm;
+  // A run that estimated nothing is a failure a script must see, not a success with empty
+  // trajectories; the outputs (log, metrics with run.failed_windows) are written all the same.
+  const bool all_failed =
+      !result.windows.empty() &&
+      std::all_of(result.windows.begin(), result.windows.end(),
+                  [](const WindowStats& w) { return w.failed; });
+  if (all_failed) {
+    log->error("no estimate: all {} backend window(s) were discarded (run.log says why)",
+               result.windows.size());
+    return kExitNoEstimate;
+  }
   return kExitOk;
 }
 

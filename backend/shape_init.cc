@@ -23,6 +23,9 @@ void ShapeInitOptions::Check() const {
               fusion_gate_chi2);
   CheckOption(std::isfinite(baseline_fusion_gate_chi2), "baseline_fusion_gate_chi2",
               "must be finite (<= 0: off)", baseline_fusion_gate_chi2);
+  CheckOption(std::isfinite(max_fused_range_ratio) && (max_fused_range_ratio <= 0 ||
+                                                        max_fused_range_ratio >= 1),
+              "max_fused_range_ratio", "must be >= 1 (<= 0: off)", max_fused_range_ratio);
   CheckOption(ransac_inlier_chi2 > 0 && std::isfinite(ransac_inlier_chi2), "ransac_inlier_chi2",
               "must be > 0", ransac_inlier_chi2);
   CheckOption(ransac_max_samples >= 0, "ransac_max_samples", "must be >= 0", ransac_max_samples);
@@ -44,6 +47,7 @@ void ShapeInitOptions::Load(OptionsReader& reader) {
   reader.Read("covariance_at_model", &covariance_at_model);
   reader.Read("fusion_gate_chi2", &fusion_gate_chi2);
   reader.Read("baseline_fusion_gate_chi2", &baseline_fusion_gate_chi2);
+  reader.Read("max_fused_range_ratio", &max_fused_range_ratio);
   reader.Read("robust_registration", &robust_registration);
   reader.Read("ransac_inlier_chi2", &ransac_inlier_chi2);
   reader.Read("ransac_max_samples", &ransac_max_samples);
@@ -457,10 +461,17 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
       return;
     }
     const Eigen::Matrix3d cov = covariance(fp, cluster_from_cam);
-    if (!IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
-                             options.fusion_gate_chi2, &model)) {
+    const Eigen::Vector3d previous_mean = model.mean;
+    const bool fused = IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
+                                           options.fusion_gate_chi2, &model);
+    const bool ran_away =
+        fused && options.max_fused_range_ratio > 0 &&
+        !((model.mean - cluster_from_cam.translation()).norm() <=
+          options.max_fused_range_ratio * fp.p_in_cam.norm());
+    if (!fused || ran_away) {
       model.rigid = false;
-      model.mean = (model.mean * model.count + p) / (model.count + 1);
+      // A first observation leaves nothing to average with.
+      model.mean = model.count > 0 ? (previous_mean * model.count + p) / (model.count + 1) : p;
       ++model.count;
       return;
     }

@@ -56,6 +56,17 @@ struct ShapeInitOptions {
   /// seed 1, 200 frames, batch: camera ATE 16.8 m with the gate, 0.028 m without; KITTI raw
   /// 0005 and the other synthetic sequences equal or better without, docs/benchmarks.md).
   double fusion_gate_chi2 = 0.0;
+  /// [ours] A fused mean farther from the camera of the observation just integrated than this
+  /// many times that observation's range marks the landmark as not moving with the cluster
+  /// (as a fusion-gate refusal does: it is then placed at the mean of its observations). Why:
+  /// without the gate, the matrix-weighted Eq. 4 of observations that disagree can run away
+  /// along the depth-elongated ellipsoids, and with covariance_at_model a far mean makes every
+  /// new observation's Σ larger still, so nothing pulls it back; measured on outdoor seed 1 at
+  /// full length (453 frames), batch: means 200 m → 10⁵ m from observations at 35 m, the
+  /// registration followed them and the window's camera came out infinite. A consistent
+  /// observation is within its depth noise of the mean (≤ 1.5× its range at 100 m and 1 px).
+  /// <= 0 disables it.
+  double max_fused_range_ratio = 4.0;
   /// The gate the baselines (Full BA, P. DCS) use in place of fusion_gate_chi2: they fuse
   /// every car point into the static cluster, and without it they diverge (10¹⁶–10³⁵ m).
   /// 16.27 = the 0.999 quantile of χ²(3). <= 0 disables it.

@@ -4,6 +4,7 @@
 //  - bad configuration throws ConfigError (the app exits 2);
 //  - unreadable or malformed input throws InputError naming the file and line (exit 1);
 //  - an output that cannot be written throws OutputError (exit 3);
+//  - a run whose every backend window was discarded writes its outputs and exits 5;
 //  - expected algorithmic outcomes are reported in result structs, never thrown.
 #include <stdexcept>
 #include <string>
@@ -17,6 +18,8 @@ enum ExitCode : int {
   kExitConfigError = 2,
   kExitOutputError = 3,
   kExitInternalError = 4,
+  /// The run finished but every backend window was discarded: the outputs hold no estimate.
+  kExitNoEstimate = 5,
   kExitSigint = 130,
   kExitSigterm = 143,
 };

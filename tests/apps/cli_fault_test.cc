@@ -111,5 +111,52 @@ TEST(CliTrackingLoss, BlackFramesLeaveAMarkedGapAndTheTrajectoryContinues) {
   EXPECT_EQ(ReadRows(out / "camera_trajectory.txt", 12).size(), expected.size());
 }
 
+/// A 40-frame outdoor synthetic sequence under `dir`; empty (and a test failure) if synth fails.
+fs::path SmallOutdoorSequence(const fs::path& dir) {
+  const fs::path seq = dir / "seq";
+  const auto synth = testing::RunProcess(
+      {CSLAM_BINARY, "synth", "--preset", "outdoor", "--seed", "4", "--frames", "40",
+       "--landmark-density", "0.3", "--out", seq.string()},
+      dir / "synth_logs");
+  EXPECT_EQ(synth.exit_code, 0) << synth.err;
+  return synth.exit_code == 0 ? seq : fs::path();
+}
+
+TEST(CliNoEstimate, EveryWindowDiscardedWritesTheOutputsAndExitsFive) {
+  testing::TempDir tmp("cli_no_estimate");
+  const fs::path seq = SmallOutdoorSequence(tmp.path());
+  ASSERT_FALSE(seq.empty());
+  // A sanity bound no real camera step meets: the one batch window is discarded.
+  testing::WriteText(tmp.path() / "config.yaml",
+                     "backend:\n  max_iterations: 1\nsanity:\n  max_step_depths: 1.0e-9\n");
+  const fs::path out = tmp.path() / "out";
+  const auto r = testing::RunProcess({CSLAM_BINARY, "run", seq.string(), "--out", out.string(),
+                                      "--mode", "batch", "--config",
+                                      (tmp.path() / "config.yaml").string(), "--no-progress"},
+                                     tmp.path() / "logs");
+  EXPECT_EQ(r.exit_code, kExitNoEstimate) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("no usable estimate"));
+  EXPECT_THAT(r.err, HasSubstr("no estimate: all 1 backend window(s) were discarded"));
+  EXPECT_THAT(testing::TemporaryFilesUnder(out), IsEmpty());
+  for (const char* f : {"metrics.json", "run.log", "clusters.csv", "camera_trajectory.txt"})
+    EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
+  const std::string metrics = testing::ReadText(out / "metrics.json");
+  EXPECT_THAT(metrics, HasSubstr("\"failed_windows\""));
+  EXPECT_THAT(metrics, ::testing::Not(HasSubstr("\"failed_windows\": []")));
+}
+
+TEST(CliNoEstimate, ARunWithAUsableWindowExitsZero) {
+  testing::TempDir tmp("cli_some_estimate");
+  const fs::path seq = SmallOutdoorSequence(tmp.path());
+  ASSERT_FALSE(seq.empty());
+  testing::WriteText(tmp.path() / "config.yaml", "backend:\n  max_iterations: 1\n");
+  const auto r = testing::RunProcess({CSLAM_BINARY, "run", seq.string(), "--out",
+                                      (tmp.path() / "out").string(), "--mode", "batch", "--config",
+                                      (tmp.path() / "config.yaml").string(), "--no-progress"},
+                                     tmp.path() / "logs");
+  EXPECT_EQ(r.exit_code, kExitOk) << r.err;
+  EXPECT_THAT(r.err, ::testing::Not(HasSubstr("no estimate")));
+}
+
 }  // namespace
 }  // namespace cslam
