@@ -1,8 +1,16 @@
 #include "frontend/image_patch.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include "core/errors.h"
 
 namespace cslam {
+namespace {
+// Strips up to this width use the row-buffered path of SampleStrip (stack buffers).
+constexpr int kMaxFastStripWidth = 128;
+}  // namespace
 
 bool SampleStrip(const cv::Mat& grey, float x, float y, int width, int height,
                  std::vector<float>* strip) {
@@ -14,11 +22,31 @@ bool SampleStrip(const cv::Mat& grey, float x, float y, int width, int height,
   const float w00 = (1 - fx) * (1 - fy), w01 = fx * (1 - fy), w10 = (1 - fx) * fy, w11 = fx * fy;
   strip->resize(static_cast<size_t>(width) * height);
   float* out = strip->data();
-  for (int r = 0; r < height; ++r) {
-    const uint8_t* a = grey.ptr<uint8_t>(y0 + r) + x0;
-    const uint8_t* b = grey.ptr<uint8_t>(y0 + r + 1) + x0;
+  if (width > kMaxFastStripWidth) {
+    for (int r = 0; r < height; ++r) {
+      const uint8_t* a = grey.ptr<uint8_t>(y0 + r) + x0;
+      const uint8_t* b = grey.ptr<uint8_t>(y0 + r + 1) + x0;
+      for (int c = 0; c < width; ++c)
+        *out++ = w00 * a[c] + w01 * a[c + 1] + w10 * b[c] + w11 * b[c + 1];
+    }
+    return true;
+  }
+  // Each image row is converted to float once (it is the lower row of one output row and the
+  // upper row of the next); the weighted sum over floats then vectorises. Same operations in
+  // the same order as the loop above, so the same values bit for bit.
+  float rows[2][kMaxFastStripWidth + 1];
+  float* upper = rows[0];
+  float* lower = rows[1];
+  const auto convert = [&](int y, float* dst) {
+    const uint8_t* src = grey.ptr<uint8_t>(y) + x0;
+    for (int c = 0; c <= width; ++c) dst[c] = src[c];
+  };
+  convert(y0, upper);
+  for (int r = 0; r < height; ++r, out += width) {
+    convert(y0 + r + 1, lower);
     for (int c = 0; c < width; ++c)
-      *out++ = w00 * a[c] + w01 * a[c + 1] + w10 * b[c] + w11 * b[c + 1];
+      out[c] = w00 * upper[c] + w01 * upper[c + 1] + w10 * lower[c] + w11 * lower[c + 1];
+    std::swap(upper, lower);
   }
   return true;
 }
@@ -85,6 +113,12 @@ double Ncc(const ImagePatch& a, const ImagePatch& b) {
 
 NccTemplate PrepareNcc(const ImagePatch& patch) {
   NccTemplate t;
+  PrepareNcc(patch, &t);
+  return t;
+}
+
+void PrepareNcc(const ImagePatch& patch, NccTemplate* templ) {
+  NccTemplate& t = *templ;
   t.size = patch.size;
   const double n = static_cast<double>(patch.size) * patch.size;
   double mean = 0;
@@ -97,7 +131,6 @@ NccTemplate PrepareNcc(const ImagePatch& patch) {
     norm2 += static_cast<double>(t.zero_mean[k]) * t.zero_mean[k];
   }
   t.norm = norm2 < kFlatVariance * n ? 0.0 : std::sqrt(norm2);
-  return t;
 }
 
 double NccAt(const NccTemplate& templ, const std::vector<float>& strip, int strip_width, int x0,
@@ -119,6 +152,58 @@ double NccAt(const NccTemplate& templ, const std::vector<float>& strip, int stri
   const double var = static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
   if (var < kFlatVariance * n) return 0.0;
   return str / (templ.norm * std::sqrt(var));
+}
+
+namespace {
+/// NCC from the window sums of NccAt.
+double NccFromSums(const NccTemplate& templ, float sr, float srr, float str) {
+  const double n = static_cast<double>(templ.size) * templ.size;
+  const double var = static_cast<double>(srr) - static_cast<double>(sr) * sr / n;
+  if (var < kFlatVariance * n) return 0.0;
+  return str / (templ.norm * std::sqrt(var));
+}
+
+/// The sums of NccAt for `count` windows whose top-left corners are `step` floats apart in
+/// `strip`; each window's sums are accumulated in NccAt's (row, column) order.
+void NccOfShifts(const NccTemplate& templ, const std::vector<float>& strip, int strip_width,
+                 int count, int step, double* out) {
+  CSLAM_CHECK(count >= 0 && count <= kMaxNccShifts, "NccAlongX/Y: count out of range");
+  if (templ.norm == 0) {
+    std::fill(out, out + count, 0.0);
+    return;
+  }
+  const int size = templ.size;
+  CSLAM_CHECK(static_cast<size_t>((size - 1) * strip_width + size) +
+                      static_cast<size_t>(count - 1) * step <=
+                  strip.size(),
+              "NccAlongX/Y: strip too small");
+  float sr[kMaxNccShifts] = {}, srr[kMaxNccShifts] = {}, str[kMaxNccShifts] = {};
+  for (int r = 0; r < size; ++r) {
+    const float* w = strip.data() + static_cast<size_t>(r) * strip_width;
+    const float* t = templ.zero_mean.data() + r * size;
+    for (int c = 0; c < size; ++c) {
+      const float tc = t[c];
+      const float* wc = w + c;
+      for (int s = 0; s < count; ++s) {
+        const float v = wc[s * step];
+        sr[s] += v;
+        srr[s] += v * v;
+        str[s] += tc * v;
+      }
+    }
+  }
+  for (int s = 0; s < count; ++s) out[s] = NccFromSums(templ, sr[s], srr[s], str[s]);
+}
+}  // namespace
+
+void NccAlongX(const NccTemplate& templ, const std::vector<float>& strip, int strip_width,
+               int count, double* out) {
+  NccOfShifts(templ, strip, strip_width, count, 1, out);
+}
+
+void NccAlongY(const NccTemplate& templ, const std::vector<float>& strip, int strip_width,
+               int count, double* out) {
+  NccOfShifts(templ, strip, strip_width, count, strip_width, out);
 }
 
 }  // namespace cslam

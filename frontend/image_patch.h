@@ -28,11 +28,26 @@ struct NccTemplate {
   double norm = 0;  ///< 0 when the patch is flat
 };
 NccTemplate PrepareNcc(const ImagePatch& patch);
+/// As above, into `templ`, reusing its storage (no allocation once it has grown).
+void PrepareNcc(const ImagePatch& patch, NccTemplate* templ);
 
 /// NCC of `templ` against the window of the same size whose top-left corner is (x0, y0) in
 /// `strip` (a row-major float image of width `strip_width`); 0 when either side is flat.
 double NccAt(const NccTemplate& templ, const std::vector<float>& strip, int strip_width, int x0,
              int y0);
+
+/// Largest `count` of NccAlongX / NccAlongY.
+inline constexpr int kMaxNccShifts = 64;
+
+/// `out[s]` = NccAt(templ, strip, strip_width, s, 0) for s = 0..count−1 (count <= kMaxNccShifts),
+/// bit for bit: every shift's sums are accumulated in NccAt's order, but all shifts advance in
+/// one pass over the template, so the inner loop runs over shifts (vectorisable).
+void NccAlongX(const NccTemplate& templ, const std::vector<float>& strip, int strip_width,
+               int count, double* out);
+
+/// `out[s]` = NccAt(templ, strip, strip_width, 0, s) for s = 0..count−1, as NccAlongX.
+void NccAlongY(const NccTemplate& templ, const std::vector<float>& strip, int strip_width,
+               int count, double* out);
 
 /// Samples a `width`×`height` float strip with top-left sample at (x, y) (sub-pixel,
 /// bilinear). Returns false when it does not fit inside the image.

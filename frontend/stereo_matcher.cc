@@ -196,17 +196,27 @@ class CoarseSearch {
 
     // Prefix sums over columns of the band of the right window sums Σr and Σr².
     const int x0 = c_lo - h, width = c_hi - c_lo + size;
-    sum_.assign(width + 1, 0.0);
-    sq_.assign(width + 1, 0.0);
-    for (int x = 0; x < width; ++x) {
-      double s = 0, q = 0;
-      for (int r = 0; r < size; ++r) {
-        const double v = right1.ptr<uint8_t>(row - h + r)[x0 + x];
-        s += v;
-        q += v * v;
+    // Integer sums (exact, as the doubles they replace were): the column loop runs over x
+    // inside the row loop, so it is contiguous and vectorisable.
+    col_sum_.assign(width, 0);
+    col_sq_.assign(width, 0);
+    for (int r = 0; r < size; ++r) {
+      const uint8_t* src = right1.ptr<uint8_t>(row - h + r) + x0;
+      int32_t* cs = col_sum_.data();
+      int32_t* cq = col_sq_.data();
+      for (int x = 0; x < width; ++x) {
+        const int32_t v = src[x];
+        cs[x] += v;
+        cq[x] += v * v;
       }
-      sum_[x + 1] = sum_[x] + s;
-      sq_[x + 1] = sq_[x] + q;
+    }
+    sum_.resize(width + 1);
+    sq_.resize(width + 1);
+    sum_[0] = 0;
+    sq_[0] = 0;
+    for (int x = 0; x < width; ++x) {
+      sum_[x + 1] = sum_[x] + col_sum_[x];
+      sq_[x + 1] = sq_[x] + col_sq_[x];
     }
     // Σ t·r for every candidate at once: the inner loop runs over candidates (contiguous,
     // vectorisable), the outer over template pixels.
@@ -224,7 +234,8 @@ class CoarseSearch {
     }
     scores->resize(count);
     for (int k = 0; k < count; ++k) {
-      const double s = sum_[k + size] - sum_[k], q = sq_[k + size] - sq_[k];
+      const double s = static_cast<double>(sum_[k + size] - sum_[k]),
+                   q = static_cast<double>(sq_[k + size] - sq_[k]);
       const double var = q - s * s / n;
       // Σ (t − t̄)·r = Σ t·r − t̄·Σ r; flat right windows score 0.
       (*scores)[k] = var < 0.5 * n ? 0.0 : (dot_[k] - mean * s) / (norm * std::sqrt(var));
@@ -234,8 +245,8 @@ class CoarseSearch {
 
  private:
   std::vector<float> templ_;
-  std::vector<double> sum_, sq_;
-  std::vector<int32_t> dot_;
+  std::vector<int64_t> sum_, sq_;
+  std::vector<int32_t> col_sum_, col_sq_, dot_;
 };
 
 cv::Ptr<cv::ORB> MakeOrb() {
@@ -330,13 +341,12 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
         !SampleStrip(right_grey, static_cast<float>(u0 - radius - half), p.y - half, strip_w,
                      o.patch_px, &m.strip))
       continue;
-    m.templ = PrepareNcc(m.patch);
+    PrepareNcc(m.patch, &m.templ);
     int s_best = 0;
-    double fine[64] = {};
-    for (int s = 0; s <= 2 * radius; ++s) {
-      fine[s] = NccAt(m.templ, m.strip, strip_w, s, 0);
+    double fine[kMaxNccShifts] = {};
+    NccAlongX(m.templ, m.strip, strip_w, 2 * radius + 1, fine);
+    for (int s = 1; s <= 2 * radius; ++s)
       if (fine[s] > fine[s_best]) s_best = s;
-    }
     res.ncc = static_cast<float>(fine[s_best]);
     if (s_best == 0 || s_best == 2 * radius) {
       res.status = StereoReject::kNoPeak;
@@ -363,7 +373,7 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
                      &m.column))
       continue;
     double vert[5];
-    for (int dv = 0; dv < 5; ++dv) vert[dv] = NccAt(m.templ, m.column, o.patch_px, 0, dv);
+    NccAlongY(m.templ, m.column, o.patch_px, 5, vert);
     const int v_best = static_cast<int>(std::max_element(vert, vert + 5) - vert);
     if (v_best == 0 || v_best == 4)
       res.row_error_px = v_best == 0 ? -2.f : 2.f;
