@@ -51,7 +51,7 @@ struct ModelAssignmentOptions {
   double outlier_alpha = 4e-4;  ///< image-prior weight (Eq. 1) when re-clustering outliers:
                                 ///< objects are told apart by where they are in the image
   int min_outlier_cluster = 5;  ///< smaller groups of re-clustered outliers stay unlabelled
-  double outlier_max_extent_m = 6.0;  ///< [ours] motion_distance.max_extent_m when re-clustering
+  double outlier_max_extent_m = 5.0;  ///< [ours] motion_distance.max_extent_m when re-clustering
                                       ///< outliers: movers are small bodies, so two landmarks
                                       ///< whose mean distance is beyond it are two bodies; 0 = off
   int max_dropped_samples = 0;  ///< [ours] per track, samples beyond sample_gate_chi2 left out

@@ -76,6 +76,9 @@ nlohmann::json ToJson(const RunMetrics& m) {
                   {"rpe_pairs_r_rad", Value(m.objects.rpe_pairs_r_rad)},
                   {"matched", Value(m.objects.matched)},
                   {"gt", Value(m.objects.gt)},
+                  {"eligible", Value(m.objects.eligible)},
+                  {"found_eligible", Value(m.objects.found_eligible)},
+                  {"eligible_min_landmarks", Value(m.objects.eligible_min_landmarks)},
                   {"per_object", per_object}};
   j["clustering"] = {{"accuracy", Value(m.clustering.accuracy)},
                      {"vi", Value(m.clustering.vi)},
@@ -141,6 +144,9 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     Read(o, "rpe_pairs_r_rad", m.objects.rpe_pairs_r_rad);
     Read(o, "matched", m.objects.matched);
     Read(o, "gt", m.objects.gt);
+    Read(o, "eligible", m.objects.eligible);
+    Read(o, "found_eligible", m.objects.found_eligible);
+    Read(o, "eligible_min_landmarks", m.objects.eligible_min_landmarks);
     if (o.contains("per_object") && o["per_object"].is_array()) {
       for (const json& e : o["per_object"]) {
         RunMetrics::PerObject p;

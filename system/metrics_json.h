@@ -29,6 +29,10 @@ struct RunMetrics {
   struct Objects {
     std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
     std::optional<int> matched, gt;
+    /// Objects with at least `eligible_min_landmarks` clusterable landmarks (PerObject::
+    /// landmarks), and how many of those were found: the "every object with ≥ 30 tracked
+    /// landmarks found" figure, which objects a few points wide cannot spoil.
+    std::optional<int> eligible, found_eligible, eligible_min_landmarks;
     std::vector<PerObject> per_object;
   };
   /// Clustering against ground-truth labels; vi in nats (natural logarithm).

@@ -285,6 +285,11 @@ std::string SummarizeMetrics(const RunMetrics& m) {
       << m.clustering.gt_objects.value_or(0) << " true objects\n";
   if (m.objects.gt)
     s << "  objects: " << m.objects.matched.value_or(0) << " of " << *m.objects.gt << " found"
+      << (m.objects.eligible ? " (" + std::to_string(m.objects.found_eligible.value_or(0)) + " of " +
+                                   std::to_string(*m.objects.eligible) + " with >= " +
+                                   std::to_string(m.objects.eligible_min_landmarks.value_or(0)) +
+                                   " landmarks)"
+                             : "")
       << (m.objects.ate_m ? ", mean ATE " + std::to_string(*m.objects.ate_m) + " m" : "") << "\n";
   if (m.landmarks.rmse_m) s << "  landmarks: RMSE " << *m.landmarks.rmse_m << " m over " << m.landmarks.count.value_or(0) << " observations\n";
   if (m.log_chi2) s << "  log chi2: " << *m.log_chi2 << "\n";

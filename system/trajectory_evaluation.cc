@@ -68,18 +68,25 @@ RunMetrics::PerObject EvaluateObjectTrajectory(const Trajectory& gt, const Traje
   return o;
 }
 
-void SummariseObjects(RunMetrics::Objects& objects) {
+void SummariseObjects(RunMetrics::Objects& objects, int min_landmarks) {
   using P = RunMetrics::PerObject;
   objects.ate_m = MeanOver(objects.per_object, &P::ate_m);
   objects.rpe_frame_t_m = MeanOver(objects.per_object, &P::rpe_frame_t_m);
   objects.rpe_frame_r_rad = MeanOver(objects.per_object, &P::rpe_frame_r_rad);
   objects.rpe_pairs_t_m = MeanOver(objects.per_object, &P::rpe_pairs_t_m);
   objects.rpe_pairs_r_rad = MeanOver(objects.per_object, &P::rpe_pairs_r_rad);
-  int matched = 0;
+  int matched = 0, eligible = 0, found_eligible = 0;
   for (const auto& o : objects.per_object) {
     matched += o.found ? 1 : 0;
+    if (o.landmarks.value_or(0) >= min_landmarks) {
+      ++eligible;
+      found_eligible += o.found ? 1 : 0;
+    }
   }
   objects.matched = matched;
+  objects.eligible = eligible;
+  objects.found_eligible = found_eligible;
+  objects.eligible_min_landmarks = min_landmarks;
   objects.gt = int(objects.per_object.size());
 }
 

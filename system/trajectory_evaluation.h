@@ -18,8 +18,13 @@ RunMetrics::Camera EvaluateCameraTrajectory(const Trajectory& gt, const Trajecto
 RunMetrics::PerObject EvaluateObjectTrajectory(const Trajectory& gt, const Trajectory& est,
                                                const AssociationOptions& association = {});
 
+/// Objects with fewer clusterable landmarks than this are left out of `objects.eligible`.
+inline constexpr int kEligibleObjectLandmarks = 30;
+
 /// Fills the averages of `objects` (ate_m, rpe_*) over its found per_object entries that have
-/// the figure, `matched` = number found, `gt` = number of entries.
-void SummariseObjects(RunMetrics::Objects& objects);
+/// the figure, `matched` = number found, `gt` = number of entries, `eligible` = entries with
+/// `landmarks` ≥ `min_landmarks` and `found_eligible` = how many of those were found.
+void SummariseObjects(RunMetrics::Objects& objects,
+                      int min_landmarks = kEligibleObjectLandmarks);
 
 }  // namespace cslam

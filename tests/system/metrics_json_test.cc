@@ -48,6 +48,9 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   m.camera.sim3_scale = 1.002;
   m.objects.matched = 1;
   m.objects.gt = 2;
+  m.objects.eligible = 1;
+  m.objects.found_eligible = 1;
+  m.objects.eligible_min_landmarks = 30;
   RunMetrics::PerObject found;
   found.gt_object = 3;
   found.cluster = 7;
@@ -76,6 +79,8 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   std::filesystem::remove_all(path.parent_path());
   const RunMetrics r = RunMetricsFromJson(j);
   EXPECT_EQ(ToJson(r), ToJson(m));
+  EXPECT_EQ(r.objects.found_eligible, 1);
+  EXPECT_EQ(r.objects.eligible_min_landmarks, 30);
   ASSERT_EQ(r.objects.per_object.size(), 2u);
   EXPECT_EQ(r.objects.per_object[0].cluster, 7);
   EXPECT_FALSE(r.objects.per_object[1].cluster.has_value());

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace cslam {
 namespace {
@@ -63,6 +65,29 @@ TEST(TrajectoryEvaluation, ObjectsAverageOverFoundOnes) {
   EXPECT_EQ(objects.gt, 3);
   EXPECT_NEAR(*objects.ate_m, 0.1, 1e-9);
   EXPECT_LT(*objects.rpe_frame_t_m, 1e-9);
+}
+
+TEST(TrajectoryEvaluation, EligibleObjectsAreThoseWithEnoughLandmarks) {
+  // found with 30 / missed with 30 / found with 29 / missed with 5 / missed, count unknown
+  RunMetrics::Objects objects;
+  const std::vector<std::pair<int, bool>> entries = {{30, true}, {30, false}, {29, true}, {5, false}};
+  for (const auto& [landmarks, found] : entries) {
+    RunMetrics::PerObject o;
+    o.landmarks = landmarks;
+    o.found = found;
+    objects.per_object.push_back(o);
+  }
+  objects.per_object.emplace_back();
+  SummariseObjects(objects);
+  EXPECT_EQ(objects.gt, 5);
+  EXPECT_EQ(objects.matched, 2);
+  EXPECT_EQ(objects.eligible_min_landmarks, kEligibleObjectLandmarks);
+  EXPECT_EQ(objects.eligible, 2);        // exactly 30 counts, 29 does not
+  EXPECT_EQ(objects.found_eligible, 1);  // the missed 30-landmark object stays missed
+  SummariseObjects(objects, 5);
+  EXPECT_EQ(objects.eligible, 4);
+  EXPECT_EQ(objects.found_eligible, 2);
+  EXPECT_EQ(objects.eligible_min_landmarks, 5);
 }
 
 }  // namespace
