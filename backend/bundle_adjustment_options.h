@@ -85,6 +85,12 @@ struct BundleAdjustmentOptions {
   /// at compile time, instead of Ceres [ours, measured: same minimum, a fraction of the time;
   /// docs/benchmarks.md, "Native dense solver"].
   bool native_dense_solver = true;
+  /// Solves with at least `sparse_schur_min_poses` poses whose residuals each touch one pose
+  /// (the decoupled ones) also run on backend/stereo_lm.h, with the reduced system factored
+  /// by its profile (envelope Cholesky), instead of Ceres' sparse solver [ours, measured: a
+  /// point is seen in a run of nearby frames, so the reduced camera system is a band; outdoor
+  /// 200-frame batch several times faster; docs/benchmarks.md, "Native profile solver"].
+  bool native_sparse_solver = true;
 
   /// Throws ConfigError naming the field that breaks its rule.
   void Check() const;
