@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <functional>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -120,6 +121,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("analytic_jacobians", &analytic_jacobians);
   reader.Read("dense_schur_smaller_side", &dense_schur_smaller_side);
   reader.Read("native_dense_solver", &native_dense_solver);
+  reader.Read("native_sparse_solver", &native_sparse_solver);
   std::string solver_text = ToString(sparse_solver);
   reader.Read("sparse_solver", &solver_text);
   sparse_solver = ParseSparseSolver(solver_text, reader.Where("sparse_solver"));
@@ -315,10 +317,10 @@ class Solve {
     const ceres::SparseLinearAlgebraLibraryType library =
         options_.sparse_library == SparseLibrary::kEigen ? ceres::EIGEN_SPARSE
                                                          : ceres::SUITE_SPARSE;
-    const bool sparse = num_poses_ >= options_.sparse_schur_min_poses &&
-                        ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library);
-    if (options_.native_dense_solver && !sparse && !coupled_) {
-      RunNative(summary);
+    const bool large = num_poses_ >= options_.sparse_schur_min_poses;
+    const bool sparse = large && ceres::IsSparseLinearAlgebraLibraryTypeAvailable(library);
+    if (!coupled_ && (large ? options_.native_sparse_solver : options_.native_dense_solver)) {
+      RunNative(large, summary);
       return;
     }
     for (const Pending& o : pending_) {
@@ -400,11 +402,16 @@ class Solve {
   }
 
  private:
-  /// The same minimisation on backend/stereo_lm.h.
-  void RunNative(BundleAdjustmentSummary* summary) {
+  /// The same minimisation on backend/stereo_lm.h; `profile`: a large solve, factored by its
+  /// profile.
+  void RunNative(bool profile, BundleAdjustmentSummary* summary) {
     StereoLmProblem p;
     std::map<const double*, int> pose_index, point_index;
-    for (double* pose : pose_blocks_) {
+    std::vector<double*> poses = pose_blocks_;
+    // The profile is narrow in frame order: a solve's poses are one frame-ordered array
+    // (cam_from_world_ or one cluster's cam_from_cluster), so address order is frame order.
+    if (profile) std::sort(poses.begin(), poses.end(), std::less<const double*>());
+    for (double* pose : poses) {
       pose_index[pose] = static_cast<int>(p.poses.size());
       p.poses.push_back(pose);
       p.pose_free.push_back(constant_.count(pose) == 0);
@@ -421,13 +428,15 @@ class Solve {
     lm.threshold_chi2 = options_.robust_threshold_chi2;
     lm.max_iterations = options_.max_iterations;
     lm.function_tolerance = options_.function_tolerance;
+    lm.profile_cholesky = profile;
     const Timer timer;
     const StereoLmSummary s = SolveStereoLm(camera_, lm, &p);
     auto log = GetLogger("backend");
     if (log->should_log(spdlog::level::debug))
-      log->debug("BA solve {}: {} poses, {} points, {} residuals, native dense, {} LM iterations "
+      log->debug("BA solve {}: {} poses, {} points, {} residuals, native {}, {} LM iterations "
                  "({} accepted), cost {:.6g} -> {:.6g}, {}, {:.3f} s",
-                 label_, num_poses_, points_.size(), p.residuals.size(), s.iterations,
+                 label_, num_poses_, points_.size(), p.residuals.size(),
+                 profile ? "profile" : "dense", s.iterations,
                  s.successful, s.initial_cost, s.final_cost,
                  s.converged ? "CONVERGENCE" : "NO_CONVERGENCE", timer.ElapsedS());
     summary->iterations += s.iterations + 1;  // Ceres counts its iteration 0 too

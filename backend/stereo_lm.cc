@@ -64,6 +64,43 @@ void Kernel(const StereoLmOptions& o, double s, double* rho, double* weight) {
   }
 }
 
+/// Factors the symmetric matrix whose upper triangle is in `s` as UᵀU, U upper, in place, by
+/// block columns of size B. Block column j has no nonzero above block row first[j] (its
+/// profile), and U keeps that profile (envelope Cholesky), so the work is Σ_j B·(B·(j −
+/// first[j]))² instead of (dim)³/3. Reads and writes only the upper triangle within the profile.
+template <int B>
+bool ProfileCholesky(const std::vector<int>& first, Eigen::MatrixXd* s) {
+  using MatB = Eigen::Matrix<double, B, B>;
+  // Left-looking by B×B blocks: U_ij = U_iiᵀ⁻¹ (S_ij − Σ_k U_kiᵀ U_kj), k over the rows both
+  // columns have. Each sum is B² dot products of contiguous columns; a triangular solve per
+  // block column instead would repack the whole triangle above it every time.
+  for (int j = 0; j < static_cast<int>(first.size()); ++j) {
+    for (int i = first[j]; i <= j; ++i) {
+      const int r0 = B * std::max(first[i], first[j]), n = B * i - r0;
+      MatB x = s->template block<B, B>(B * i, B * j);
+      if (n > 0)
+        x.noalias() -= s->block(r0, B * i, n, B).transpose().lazyProduct(s->block(r0, B * j, n, B));
+      if (i < j) {
+        s->template block<B, B>(B * i, B * j) =
+            s->template block<B, B>(B * i, B * i).transpose().template triangularView<Eigen::Lower>().solve(x);
+      } else {
+        const Eigen::LLT<MatB, Eigen::Upper> llt(x);
+        if (llt.info() != Eigen::Success) return false;
+        s->template block<B, B>(B * j, B * j) = llt.matrixU();
+      }
+    }
+  }
+  return true;
+}
+
+/// Solves UᵀU x = rhs with the upper factor of ProfileCholesky (zero outside the profile).
+Eigen::VectorXd SolveFactored(const Eigen::MatrixXd& u, const Eigen::VectorXd& rhs) {
+  Eigen::VectorXd x = rhs;
+  u.triangularView<Eigen::Upper>().transpose().solveInPlace(x);
+  u.triangularView<Eigen::Upper>().solveInPlace(x);
+  return x;
+}
+
 /// The linearisation at the current state, kept while rejected steps re-solve it.
 struct Linearisation {
   std::vector<Mat6> h_pose;             // [free pose]
@@ -98,6 +135,31 @@ class Solver {
     for (size_t k = 0; k < p_.residuals.size(); ++k) {
       const int f = free_index_[p_.residuals[k].pose];
       if (f >= 0) pose_order_[fill[f]++] = static_cast<int>(k);
+    }
+    if (options_.profile_cholesky) ComputeProfiles();
+  }
+
+  /// The profiles of the two reduced systems: first_pose_[f], the lowest free pose that shares
+  /// a point with free pose f; first_point_[l], the lowest point that shares a free pose with
+  /// point l.
+  void ComputeProfiles() {
+    const int np = static_cast<int>(p_.points.size());
+    std::vector<int> lowest_pose(np, num_free_), lowest_point(num_free_, np);
+    for (const StereoLmResidual& r : p_.residuals) {
+      const int f = free_index_[r.pose];
+      if (f < 0) continue;
+      lowest_pose[r.point] = std::min(lowest_pose[r.point], f);
+      lowest_point[f] = std::min(lowest_point[f], r.point);
+    }
+    first_pose_.resize(num_free_);
+    for (int f = 0; f < num_free_; ++f) first_pose_[f] = f;
+    first_point_.resize(np);
+    for (int l = 0; l < np; ++l) first_point_[l] = l;
+    for (const StereoLmResidual& r : p_.residuals) {
+      const int f = free_index_[r.pose];
+      if (f < 0) continue;
+      first_pose_[f] = std::min(first_pose_[f], lowest_pose[r.point]);
+      first_point_[r.point] = std::min(first_point_[r.point], lowest_point[f]);
     }
   }
 
@@ -301,9 +363,15 @@ class Solver {
     }
     d_pose->assign(num_free_, Vec6::Zero());
     if (m > 0) {
-      Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
-      if (llt.info() != Eigen::Success) return false;
-      const Eigen::VectorXd x = llt.solve(rhs);
+      Eigen::VectorXd x;
+      if (options_.profile_cholesky) {
+        if (!ProfileCholesky<6>(first_pose_, &s)) return false;
+        x = SolveFactored(s, rhs);
+      } else {
+        const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+        if (llt.info() != Eigen::Success) return false;
+        x = llt.solve(rhs);
+      }
       if (!x.allFinite()) return false;
       for (int f = 0; f < num_free_; ++f) (*d_pose)[f] = x.segment<6>(6 * f);
     }
@@ -360,9 +428,15 @@ class Solver {
         }
       }
     }
-    Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
-    if (llt.info() != Eigen::Success) return false;
-    const Eigen::VectorXd x = llt.solve(rhs);
+    Eigen::VectorXd x;
+    if (options_.profile_cholesky) {
+      if (!ProfileCholesky<3>(first_point_, &s)) return false;
+      x = SolveFactored(s, rhs);
+    } else {
+      const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
+      if (llt.info() != Eigen::Success) return false;
+      x = llt.solve(rhs);
+    }
     if (!x.allFinite()) return false;
     d_point->assign(np, Eigen::Vector3d::Zero());
     for (int l = 0; l < np; ++l) (*d_point)[l] = x.segment<3>(3 * l);
@@ -444,6 +518,7 @@ class Solver {
   int num_free_ = 0;
   std::vector<int> start_, order_;  // residuals by point
   std::vector<int> pose_start_, pose_order_;  // residuals through free poses, by free pose
+  std::vector<int> first_pose_, first_point_;  // profiles (ComputeProfiles)
   Linearisation lin_;
   std::vector<std::array<double, 7>> pose_store_;
   std::vector<std::array<double, 3>> point_store_;

@@ -40,6 +40,11 @@ struct StereoLmOptions {
   double threshold_chi2 = 7.815;  ///< Huber: quadratic below; DCS: Φ
   int max_iterations = 50;        ///< LM iterations, rejected ones included
   double function_tolerance = 1e-6;
+  /// Factor the reduced system by its profile (envelope Cholesky) instead of as a dense
+  /// matrix: the same factor up to rounding, and in a sequence's bundle adjustment — each
+  /// point seen in a run of nearby frames — the reduced camera system over 200 frames is a
+  /// band a few dozen poses wide, so the work drops by the square of that ratio.
+  bool profile_cholesky = false;
 };
 
 /// What the solve did.

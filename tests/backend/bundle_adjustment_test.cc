@@ -206,6 +206,7 @@ TEST(BundleAdjustment, SolverChoicesReachTheReferenceSolution) {
   reference.max_iterations = 200;
   reference.function_tolerance = 1e-12;
   reference.sparse_schur_min_poses = 0;  // every solve sparse, also the moving clusters'
+  reference.native_sparse_solver = false;  // Ceres' sparse solvers are the reference
   MotionEstimate ref = initial;
   const BundleAdjustmentSummary ref_summary =
       AdjustBundle(scene.table, scene.camera, reference, &ref);
@@ -245,6 +246,9 @@ TEST(BundleAdjustment, SolverChoicesReachTheReferenceSolution) {
         o.native_dense_solver = true;
       },
       1e-6, 1e-7, 1e-5, 1e-8);
+  // backend/stereo_lm.h on the large solves: the reduced systems factored by their profile.
+  add("native_profile", [](BundleAdjustmentOptions& o) { o.native_sparse_solver = true; }, 1e-6,
+      1e-7, 1e-5, 1e-8);
   add("sparse_schur", [](BundleAdjustmentOptions& o) { o.sparse_solver = SparseSolver::kSchur; },
       1e-6, 1e-7, 1e-5, 1e-8);
   add("eigen_normal_cholesky",

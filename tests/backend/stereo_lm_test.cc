@@ -120,6 +120,41 @@ TEST(StereoLm, FewPointsInManyFramesAlsoReachTheExactSolution) {
   EXPECT_LT(summary.final_cost, 1e-9 * summary.initial_cost);
 }
 
+// profile_cholesky: a sequence-like problem where each point is seen in a run of 13 frames
+// around its own frame (the reduced camera system is a band), and the few-points problem
+// (the points' system): the profile factor gives the dense factor's steps, so both runs reach
+// the exact solution and agree with each other.
+TEST(StereoLm, ProfileCholeskyReachesTheDenseSolutionOnBandedAndPointSideSystems) {
+  struct Case {
+    int frames, points, half_run;
+  };
+  for (const Case c : {Case{40, 400, 6}, Case{20, 8, 100}}) {
+    Scene base = MakeScene(c.frames, c.points, 0.0, 21);
+    std::vector<StereoLmResidual> kept;
+    for (const StereoLmResidual& r : base.problem.residuals)
+      if (std::abs(r.pose - r.point % c.frames) <= c.half_run) kept.push_back(r);
+    base.problem.residuals = kept;
+    Perturb(&base, 22);
+    Scene dense = base, profile = base;
+    Bind(&dense);
+    Bind(&profile);
+    StereoLmOptions o;
+    o.max_iterations = 200;
+    o.function_tolerance = 1e-14;
+    const StereoLmSummary sd = SolveStereoLm(dense.camera, o, &dense.problem);
+    o.profile_cholesky = true;
+    const StereoLmSummary sp = SolveStereoLm(profile.camera, o, &profile.problem);
+    EXPECT_FALSE(sp.failed);
+    EXPECT_EQ(sp.successful, sd.successful) << c.frames;
+    EXPECT_LT(MaxPoseError(profile), 1e-6) << c.frames;
+    EXPECT_LT(sp.final_cost, 1e-9 * sp.initial_cost) << c.frames;
+    for (size_t f = 0; f < profile.poses.size(); ++f)
+      for (int j = 0; j < 7; ++j) EXPECT_NEAR(profile.poses[f][j], dense.poses[f][j], 1e-9);
+    for (size_t i = 0; i < profile.points.size(); ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_NEAR(profile.points[i][j], dense.points[i][j], 1e-7);
+  }
+}
+
 TEST(StereoLm, HeldPosesStayBitForBitAndNoiseLeavesTheExpectedChi2) {
   const int frames = 8, points = 150;
   Scene s = MakeScene(frames, points, 1.0, 3);
