@@ -212,9 +212,11 @@ TEST(EstimateMotions, HoldingOutInconsistentLandmarksProtectsTheCamera) {
     if (held.landmark_cluster[i] >= 0) EXPECT_TRUE(held.landmark_in_cluster[i].allFinite()) << i;
   }
 
-  // Without the gate and the track test nothing is inconsistent: the option changes nothing.
+  // Without the gate, the run-away guard and the track test nothing is inconsistent: the
+  // option changes nothing.
   MotionEstimationOptions no_gate;
   no_gate.shape_init.fusion_gate_chi2 = 0;
+  no_gate.shape_init.max_fused_range_ratio = 0;
   no_gate.shape_init.refit_passes = 0;
   no_gate.hold_out_inconsistent_landmarks = false;
   const MotionEstimate a = EstimateMotions(scene.table, scene.camera, range, all_static, no_gate);

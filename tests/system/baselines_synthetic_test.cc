@@ -76,7 +76,8 @@ INSTANTIATE_TEST_SUITE_P(Seeds, OutdoorBaseline,
                          });
 
 TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3) {
-  // Pins the cause: the same run with Eq. 4 fusing every observation (the old behaviour).
+  // Pins the cause: the same run with Eq. 4 fusing every observation (the old behaviour:
+  // neither the gate nor the run-away guard), and that the guard alone prevents it.
   SyntheticOptions o;
   o.preset = "outdoor";
   o.seed = 3;
@@ -86,11 +87,21 @@ TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3)
   gate_off.shape_init.baseline_fusion_gate_chi2 = 0;
   gate_off.shape_init.robust_registration = false;
   gate_off.shape_init.refit_passes = 0;
-  const BackendResult r = RunFullBa(seq.observations, seq.camera, range, gate_off);
+  MotionEstimationOptions unprotected = gate_off;
+  unprotected.shape_init.max_fused_range_ratio = 0;
+  const BackendResult r = RunFullBa(seq.observations, seq.camera, range, unprotected);
   const EstimateSanity sanity =
       JudgeEstimate(r.estimate, seq.observations, seq.camera, EstimateSanityOptions{});
   EXPECT_FALSE(sanity.usable);
   EXPECT_FALSE(CameraRms(seq, r.estimate) < kPaperOutdoorBaselineAteM);
+
+  const BackendResult guarded = RunFullBa(seq.observations, seq.camera, range, gate_off);
+  const EstimateSanity guarded_sanity =
+      JudgeEstimate(guarded.estimate, seq.observations, seq.camera, EstimateSanityOptions{});
+  std::printf("Full BA, gate off, run-away guard on: camera RMS %.3f m\n",
+              CameraRms(seq, guarded.estimate));
+  EXPECT_TRUE(guarded_sanity.usable) << guarded_sanity.reason;
+  EXPECT_LT(CameraRms(seq, guarded.estimate), kPaperOutdoorBaselineAteM);
 }
 
 }  // namespace
