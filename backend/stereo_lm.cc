@@ -364,15 +364,7 @@ class Solver {
     d_pose->assign(num_free_, Vec6::Zero());
     if (m > 0) {
       Eigen::VectorXd x;
-      if (options_.profile_cholesky) {
-        if (!ProfileCholesky<6>(first_pose_, &s)) return false;
-        x = SolveFactored(s, rhs);
-      } else {
-        const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
-        if (llt.info() != Eigen::Success) return false;
-        x = llt.solve(rhs);
-      }
-      if (!x.allFinite()) return false;
+      if (!SolveReduced<6>(first_pose_, &s, rhs, &x)) return false;
       for (int f = 0; f < num_free_; ++f) (*d_pose)[f] = x.segment<6>(6 * f);
     }
     d_point->assign(np, Eigen::Vector3d::Zero());
@@ -386,6 +378,22 @@ class Solver {
       (*d_point)[l] = inv[l] * b;
     }
     return true;
+  }
+
+  /// Solves the reduced system `s` x = `rhs` (upper triangle filled; overwritten by its
+  /// factor) by its profile of B-blocks `first` or by a dense LLT; false unless x is finite.
+  template <int B>
+  bool SolveReduced(const std::vector<int>& first, Eigen::MatrixXd* s, const Eigen::VectorXd& rhs,
+                    Eigen::VectorXd* x) const {
+    if (options_.profile_cholesky) {
+      if (!ProfileCholesky<B>(first, s)) return false;
+      *x = SolveFactored(*s, rhs);
+    } else {
+      const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(*s);
+      if (llt.info() != Eigen::Success) return false;
+      *x = llt.solve(rhs);
+    }
+    return x->allFinite();
   }
 
   /// Free poses eliminated: a dense 3·points system.
@@ -429,15 +437,7 @@ class Solver {
       }
     }
     Eigen::VectorXd x;
-    if (options_.profile_cholesky) {
-      if (!ProfileCholesky<3>(first_point_, &s)) return false;
-      x = SolveFactored(s, rhs);
-    } else {
-      const Eigen::LLT<Eigen::MatrixXd, Eigen::Upper> llt(s);
-      if (llt.info() != Eigen::Success) return false;
-      x = llt.solve(rhs);
-    }
-    if (!x.allFinite()) return false;
+    if (!SolveReduced<3>(first_point_, &s, rhs, &x)) return false;
     d_point->assign(np, Eigen::Vector3d::Zero());
     for (int l = 0; l < np; ++l) (*d_point)[l] = x.segment<3>(3 * l);
     d_pose->assign(num_free_, Vec6::Zero());
