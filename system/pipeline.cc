@@ -77,7 +77,9 @@ class BackendStage {
         renders_(input, options.output, options.out_dir,
                  !(options.mode == "online" && options.online.sequential)) {}
 
-  WindowStats Process(const TrackletTable& window_table, FrameRange range) {
+  /// `given` (may be null): the prior of a warm-started batch call (built from another map).
+  WindowStats Process(const TrackletTable& window_table, FrameRange range,
+                      const WindowPrior* given = nullptr) {
     WindowStats stats;
     stats.range = range;
     Timer timer;
@@ -87,9 +89,12 @@ class BackendStage {
       // Online ClusterSLAM windows start from what the map knows (the map is ours: this
       // thread integrates every window).
       std::optional<WindowPrior> prior;
-      if (options_.mode == "online" && options_.method == "clusterslam" &&
-          options_.backend.window_prior.enabled)
+      if (given) {
+        prior = *given;
+      } else if (options_.mode == "online" && options_.method == "clusterslam" &&
+                 options_.backend.window_prior.enabled) {
         prior = WindowPriorFromMap(map_, window_table, range);
+      }
       stats.prior_ms = timer.ElapsedMs();
       result = backend_(window_table, camera_, range, options_, prior ? &*prior : nullptr);
     } catch (const ConfigError&) {
@@ -317,6 +322,25 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
   return read_ms;
 }
 
+// Batch warm start (BatchOptions): the online system's windows, in order on this thread, over
+// the already tracked `table`; returns the map they built (no renders). `stats` receives the
+// windows' statistics.
+MapState OnlineMapOf(const RunInput& input, const TrackletTable& table, int frames,
+                     const PipelineOptions& options, const BackendFunction& backend_fn,
+                     std::vector<WindowStats>* stats) {
+  PipelineOptions online = options;
+  online.mode = "online";
+  online.out_dir.clear();  // the warm-up renders nothing
+  BackendStage stage(input, online, backend_fn);
+  WindowScheduler windows(online.online);
+  for (int f = 0; f < frames; ++f)
+    for (const FrameRange& w : windows.AfterFrame(table, f))
+      stats->push_back(stage.Process(table.Slice(w), w));
+  if (auto w = windows.Final(frames)) stats->push_back(stage.Process(table.Slice(*w), *w));
+  (void)stage.FinishRenders();
+  return std::move(stage.map());
+}
+
 PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
                         const std::atomic<bool>* stop, const ProgressCallback& progress,
                         const BackendFunction& backend_fn) {
@@ -325,12 +349,36 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, {});
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
   if (out.frames_processed == 0) return out;
-  BackendStage backend(input, options, backend_fn);
   // One backend call per stretch between tracking breaks (normally the whole sequence).
   const std::vector<FrameRange> segments =
       SegmentsBetweenBreaks(tracking.table(), out.frames_processed, options.online);
-  for (const FrameRange& r : segments)
-    out.windows.push_back(backend.Process(segments.size() == 1 ? tracking.table() : tracking.table().Slice(r), r));
+  const bool warm = options.batch.warm_start && options.method == "clusterslam";
+  std::optional<MapState> online_map;
+  PipelineOptions warm_options = options;
+  if (warm) {
+    Timer timer;
+    const double cpu_start = ThreadCpuMs();
+    std::vector<WindowStats> online_windows;
+    online_map = OnlineMapOf(input, tracking.table(), out.frames_processed, options,
+                             backend_fn, &online_windows);
+    GetLogger("system")->info("batch warm start: {} online windows, {:.0f} ms wall / {:.0f} ms "
+                              "thread CPU",
+                              online_windows.size(), timer.ElapsedMs(), ThreadCpuMs() - cpu_start);
+    // The whole-sequence call from the online map's prior: batch.max_iterations rounds of
+    // model assignment + estimation with batch.ba_iterations LM iterations each.
+    warm_options.backend.window_prior.enabled = true;
+    warm_options.backend.window_prior.max_iterations = options.batch.max_iterations;
+    warm_options.backend.window_prior.ba_iterations = options.batch.ba_iterations;
+  }
+  BackendStage backend(input, warm_options, backend_fn);
+  for (const FrameRange& r : segments) {
+    std::optional<TrackletTable> slice;
+    if (segments.size() > 1) slice = tracking.table().Slice(r);
+    const TrackletTable& t = slice ? *slice : tracking.table();
+    std::optional<WindowPrior> prior;
+    if (online_map) prior = WindowPriorFromMap(*online_map, t, r);
+    out.windows.push_back(backend.Process(t, r, prior ? &*prior : nullptr));
+  }
   out.batch = std::move(backend.last_result());
   out.renders = backend.FinishRenders();
   out.map = std::move(backend.map());

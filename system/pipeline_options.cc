@@ -28,6 +28,18 @@ void OnlineOptions::Load(OptionsReader& r) {
   r.Finish();
 }
 
+void BatchOptions::Check() const {
+  CheckOption(max_iterations >= 1, "batch.max_iterations", "must be >= 1", max_iterations);
+  CheckOption(ba_iterations >= 1, "batch.ba_iterations", "must be >= 1", ba_iterations);
+}
+
+void BatchOptions::Load(OptionsReader& r) {
+  r.Read("warm_start", &warm_start);
+  r.Read("max_iterations", &max_iterations);
+  r.Read("ba_iterations", &ba_iterations);
+  r.Finish();
+}
+
 void OutputOptions::Check() const {
   CheckOption(snapshots_every >= 0, "output.snapshots_every", "must be >= 0 (0 = off)", snapshots_every);
   CheckOption(overlays_every >= 0, "output.overlays_every", "must be >= 0 (0 = off)", overlays_every);
@@ -62,6 +74,7 @@ void PipelineOptions::Check() const {
   frontend.Check();
   backend.Check();
   online.Check();
+  batch.Check();
   map.Check();
   sanity.Check();
   calibration.Check();
@@ -100,6 +113,8 @@ void PipelineOptions::Load(OptionsReader& r) {
   backend.Load(be);
   auto on = r.Section("online");
   online.Load(on);
+  auto ba = r.Section("batch");
+  batch.Load(ba);
   auto mp = r.Section("map");
   map.Load(mp);
   auto sa = r.Section("sanity");

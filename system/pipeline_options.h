@@ -1,6 +1,6 @@
 #pragma once
 // Every option of a `cslam run`, in one tree that mirrors the YAML configs in configs/:
-//   preset, method, ablation, mode, input{}, frontend{}, backend{}, online{}, map{}, sanity{},
+//   preset, method, ablation, mode, input{}, frontend{}, backend{}, online{}, batch{}, map{}, sanity{},
 //   calibration{}, output{}.
 // Defaults come from the preset (indoor / outdoor backend parameters), then the YAML file,
 // then command-line flags; the effective tree is saved beside the outputs (config.yaml).
@@ -35,6 +35,23 @@ struct OnlineOptions {
   void Load(OptionsReader& r);
 };
 
+/// [ours] Batch mode's warm start (docs/usage.md, section `batch`): instead of the whole-sequence
+/// loop's cold first iteration (a pairwise clustering on camera-frame positions that labels the
+/// cars static, then a static solve that runs into its iteration cap), the online windows are
+/// run over the tracked sequence first and the whole sequence is then solved from the map they
+/// built (RunClusterSlamWindow with the map's prior over all frames: camera poses, static
+/// labels and positions; moving landmarks start unlabelled and are re-clustered).
+struct BatchOptions {
+  bool warm_start = false;  ///< ClusterSLAM only; the baselines ignore it
+  /// Rounds of model assignment + estimation over the whole sequence from the prior
+  /// (backend.window_prior.max_iterations of that one call).
+  int max_iterations = 3;
+  /// LM iterations of each of those adjustments (backend.window_prior.ba_iterations).
+  int ba_iterations = 50;
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
 /// What is written besides the trajectories.
 struct OutputOptions {
   int snapshots_every = 0;     ///< render/snapshot_NNNNNN.png every N frames; 0 = none
@@ -55,6 +72,7 @@ struct PipelineOptions {
   FrontendOptions frontend;
   ClusterSlamOptions backend = ClusterSlamOptions::Outdoor();
   OnlineOptions online;
+  BatchOptions batch;  ///< mode: batch only
   MapStateOptions map;
   EstimateSanityOptions sanity;  ///< when a backend window's estimate is refused
   CalibrationOptions calibration;  ///< self-calibration of the stereo pair (disparity offset)
