@@ -22,8 +22,11 @@ TSAN_DIR=${TSAN_DIR:-build-tsan}
 ASAN_EXCLUDE=${ASAN_EXCLUDE-'^MotionDistance\.FastSumsMatchTheNaiveFormulaForEveryVariant$|^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|AFailedWindowIsDiscardedAndTheRunGoesOn|ThreadedOnlineRunEqualsTheSequentialOne)$|^cslam_demo_writes_every_output$|^EstimateMotions\.(TrueLabelsGiveAnAccurateCameraWhileFullBaIsBiased|ProgressiveDcsSplitsOffMovingPoints)$|^SyntheticScene\.(PresetsDrawSizesFromThePapersRanges|MovingObjectsMoveRealisticallyAndStayInView|OutdoorSeedOneMeetsTheSizeTarget)$|^BundleAdjustment\.(RobustKernelsResistGrossOutliers|CouplingModesAgreeOnACleanScene)$|^ClusterSlamSynthetic\.|^ZeroNoiseSynthetic\.|OutdoorBaseline|^CliFrameRenders\.ZeroTurnsThePicturesOff$|^Pipeline\.ForgettingOldObservationsChangesNoResult$'}
 # The threaded pipeline: the in-process pipeline tests and `cslam run` under signals.
 TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|CliSignal|^CliTrackingLoss'}
-# Batch mode runs in one thread: nothing for TSan to see, and 6 min under it.
-TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.BatchModeGivesEveryFrameAPoseNearTheTruth$'}
+# Batch mode runs in one thread of ours: nothing for TSan to see (6 min under it). The
+# warm-started batch's 60-pose solves go to CHOLMOD, whose OpenMP threads (libgomp, built
+# without TSan) TSan reports as racing on CHOLMOD's own workspace; the test runs in the gcc
+# and ASan suites.
+TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|WarmStartedBatchClustersAsWellAsTheColdOne)$'}
 TEST_TIMEOUT=${TEST_TIMEOUT:-1500}
 SUPP="$PWD/scripts/sanitizers"
 
