@@ -88,15 +88,12 @@ class BackendStage {
     try {
       // Online ClusterSLAM windows start from what the map knows (the map is ours: this
       // thread integrates every window).
-      std::optional<WindowPrior> prior;
-      if (given) {
-        prior = *given;
-      } else if (options_.mode == "online" && options_.method == "clusterslam" &&
-                 options_.backend.window_prior.enabled) {
-        prior = WindowPriorFromMap(map_, window_table, range);
-      }
+      std::optional<WindowPrior> own;
+      if (!given && options_.mode == "online" && options_.method == "clusterslam" &&
+          options_.backend.window_prior.enabled)
+        own = WindowPriorFromMap(map_, window_table, range);
       stats.prior_ms = timer.ElapsedMs();
-      result = backend_(window_table, camera_, range, options_, prior ? &*prior : nullptr);
+      result = backend_(window_table, camera_, range, options_, given ? given : own ? &*own : nullptr);
     } catch (const ConfigError&) {
       throw;  // every later window would fail the same way
     } catch (const std::exception& e) {
@@ -323,21 +320,28 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
 }
 
 // Batch warm start (BatchOptions): the online system's windows, in order on this thread, over
-// the already tracked `table`; returns the map they built (no renders). `stats` receives the
-// windows' statistics.
+// the already tracked `table`; returns the map they built (no renders).
 MapState OnlineMapOf(const RunInput& input, const TrackletTable& table, int frames,
-                     const PipelineOptions& options, const BackendFunction& backend_fn,
-                     std::vector<WindowStats>* stats) {
+                     const PipelineOptions& options, const BackendFunction& backend_fn) {
+  Timer timer;
+  const double cpu_start = ThreadCpuMs();
   PipelineOptions online = options;
   online.mode = "online";
   online.out_dir.clear();  // the warm-up renders nothing
   BackendStage stage(input, online, backend_fn);
   WindowScheduler windows(online.online);
+  int count = 0;
+  auto run_window = [&](FrameRange w) {
+    stage.Process(table.Slice(w), w);
+    ++count;
+  };
   for (int f = 0; f < frames; ++f)
-    for (const FrameRange& w : windows.AfterFrame(table, f))
-      stats->push_back(stage.Process(table.Slice(w), w));
-  if (auto w = windows.Final(frames)) stats->push_back(stage.Process(table.Slice(*w), *w));
+    for (const FrameRange& w : windows.AfterFrame(table, f)) run_window(w);
+  if (auto w = windows.Final(frames)) run_window(*w);
   (void)stage.FinishRenders();
+  GetLogger("system")->info("batch warm start: {} online windows, {:.0f} ms wall / {:.0f} ms "
+                            "thread CPU",
+                            count, timer.ElapsedMs(), ThreadCpuMs() - cpu_start);
   return std::move(stage.map());
 }
 
@@ -352,18 +356,10 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
   // One backend call per stretch between tracking breaks (normally the whole sequence).
   const std::vector<FrameRange> segments =
       SegmentsBetweenBreaks(tracking.table(), out.frames_processed, options.online);
-  const bool warm = options.batch.warm_start && options.method == "clusterslam";
   std::optional<MapState> online_map;
   PipelineOptions warm_options = options;
-  if (warm) {
-    Timer timer;
-    const double cpu_start = ThreadCpuMs();
-    std::vector<WindowStats> online_windows;
-    online_map = OnlineMapOf(input, tracking.table(), out.frames_processed, options,
-                             backend_fn, &online_windows);
-    GetLogger("system")->info("batch warm start: {} online windows, {:.0f} ms wall / {:.0f} ms "
-                              "thread CPU",
-                              online_windows.size(), timer.ElapsedMs(), ThreadCpuMs() - cpu_start);
+  if (options.batch.warm_start && options.method == "clusterslam") {
+    online_map = OnlineMapOf(input, tracking.table(), out.frames_processed, options, backend_fn);
     // The whole-sequence call from the online map's prior: batch.max_iterations rounds of
     // model assignment + estimation with batch.ba_iterations LM iterations each.
     warm_options.backend.window_prior.enabled = true;

@@ -15,25 +15,13 @@
 namespace cslam {
 namespace {
 
-RunInput InputOf(SyntheticSequence seq) {
-  RunInput in;
-  in.name = seq.name;
-  in.kind = "synthetic";
-  in.camera = seq.camera;
-  in.timestamps = seq.timestamps;
-  in.gt_world_from_cam = seq.world_from_cam;
-  in.observations = seq.observations;
-  in.synthetic = std::move(seq);
-  return in;
-}
-
 RunInput SmallSyntheticInput(double density = 0.3) {
   SyntheticOptions o;
   o.preset = "outdoor";
   o.seed = 3;
   o.frames = 40;
   o.landmark_density = density;
-  return InputOf(GenerateSynthetic(o));
+  return SyntheticRunInput(GenerateSynthetic(o));
 }
 
 PipelineOptions OnlineOptionsFor(bool sequential) {
@@ -168,7 +156,7 @@ TEST(Pipeline, WarmStartedBatchClustersAsWellAsTheColdOne) {
   so.preset = "outdoor";
   so.seed = 1;
   so.frames = 60;
-  const RunInput in = InputOf(GenerateSynthetic(so));
+  const RunInput in = SyntheticRunInput(GenerateSynthetic(so));
   PipelineOptions o;
   o.ApplyPreset("outdoor");
   o.mode = "batch";
