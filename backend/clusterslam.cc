@@ -37,6 +37,9 @@ void WindowPriorOptions::Check() const {
               max_iterations);
   CheckOption(ba_iterations >= 1, "clusterslam.window_prior.ba_iterations", "must be >= 1",
               ba_iterations);
+  CheckOption(function_tolerance >= 0 && function_tolerance < 1,
+              "clusterslam.window_prior.function_tolerance", "must be in [0, 1)",
+              function_tolerance);
   CheckOption(min_known_frames > 0 && min_known_frames <= 1,
               "clusterslam.window_prior.min_known_frames", "must be in (0, 1]", min_known_frames);
   CheckOption(min_known_landmarks >= 0 && min_known_landmarks <= 1,
@@ -50,6 +53,7 @@ void WindowPriorOptions::Load(OptionsReader& reader) {
   reader.Read("enabled", &enabled);
   reader.Read("max_iterations", &max_iterations);
   reader.Read("ba_iterations", &ba_iterations);
+  reader.Read("function_tolerance", &function_tolerance);
   reader.Read("adjust_prior", &adjust_prior);
   reader.Read("keep_moving_labels", &keep_moving_labels);
   reader.Read("fix_known_poses", &fix_known_poses);
@@ -375,6 +379,8 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
   MotionEstimationOptions first = opts.motion;
   first.run_bundle_adjustment = opts.window_prior.adjust_prior;
   first.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
+  if (opts.window_prior.function_tolerance > 0)
+    first.bundle_adjustment.function_tolerance = opts.window_prior.function_tolerance;
   std::vector<bool> fixed_cameras(range.size(), false);
   if (opts.window_prior.fix_known_poses) {
     // The newest `free_known_frames` known poses stay free: the map has each frame's pose from
@@ -407,6 +413,8 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
 
   MotionEstimationOptions motion = opts.motion;
   motion.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
+  if (opts.window_prior.function_tolerance > 0)
+    motion.bundle_adjustment.function_tolerance = opts.window_prior.function_tolerance;
   MovingClusterCache cache;
   std::vector<int> reclusterings(raw.size(), 0);  // per landmark, over this window's rounds
   bool adjusted = false;

@@ -15,7 +15,13 @@ double LargestEigenvalue(const Eigen::Matrix3d& cov) {
       .maxCoeff();
 }
 
-bool BelowFloor(const Eigen::Matrix3d& cov, double var) { return !(LargestEigenvalue(cov) >= var); }
+// A symmetric matrix's largest eigenvalue is at least its largest diagonal entry, so most
+// covariances pass without the eigen-solver (every frontend one: it ran for each observation
+// of every online window).
+bool BelowFloor(const Eigen::Matrix3d& cov, double var) {
+  if (cov.diagonal().maxCoeff() >= var) return false;
+  return !(LargestEigenvalue(cov) >= var);
+}
 
 }  // namespace
 

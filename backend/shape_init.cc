@@ -7,6 +7,7 @@
 #include <random>
 
 #include "core/errors.h"
+#include "core/spd3.h"
 
 namespace cslam {
 
@@ -161,6 +162,15 @@ void Prune(int max_components, LandmarkModel* model) {
   }
 }
 
+/// LogDet(Σ_g) of every model component of every correspondence, flattened in order: constant
+/// over a registration's iterations.
+std::vector<double> ModelLogDets(const std::vector<RegistrationPoint>& points) {
+  std::vector<double> out;
+  for (const RegistrationPoint& pt : points)
+    for (const Eigen::Matrix3d& cov_g : pt.model_covariances) out.push_back(LogDet(cov_g));
+  return out;
+}
+
 /// Eq. 3's objective at `cluster_from_cam`, with the Huber ρ on each Mahalanobis distance.
 double RegistrationCost(const std::vector<RegistrationPoint>& points, const Pose& cluster_from_cam,
                         double huber_k) {
@@ -172,10 +182,19 @@ double RegistrationCost(const std::vector<RegistrationPoint>& points, const Pose
     double best = std::numeric_limits<double>::infinity();
     for (const Eigen::Matrix3d& cov_g : pt.model_covariances) {
       const Eigen::Matrix3d s = cov_rotated + cov_g;
-      const double m2 = r.dot(s.ldlt().solve(r));
+      Eigen::Matrix3d info;
+      double det;
+      double m2, log_det_s;
+      if (InvertSpd3(s, &info, &det)) {
+        m2 = r.dot(info * r);
+        log_det_s = std::log(std::max(det, 1e-300));
+      } else {
+        m2 = r.dot(s.ldlt().solve(r));
+        log_det_s = LogDet(s);
+      }
       const double m = std::sqrt(std::max(m2, 0.0));
       const double rho = m <= huber_k ? m2 : 2.0 * huber_k * m - huber_k * huber_k;
-      best = std::min(best, 0.5 * rho + 0.5 * LogDet(s) + LogDet(cov_g));
+      best = std::min(best, 0.5 * rho + 0.5 * log_det_s + LogDet(cov_g));
     }
     if (std::isfinite(best)) total += best;
   }
@@ -188,10 +207,12 @@ Pose RegisterNoiseAware(const std::vector<RegistrationPoint>& points, const Pose
                         const ShapeInitOptions& options) {
   Pose cluster_from_cam = initial;
   const double k = options.huber_threshold_sigma;
+  const std::vector<double> log_det_g = ModelLogDets(points);
   for (int it = 0; it < options.max_gauss_newton_iterations; ++it) {
     const Eigen::Matrix3d R = cluster_from_cam.linear();
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    size_t component = 0;
     for (const RegistrationPoint& pt : points) {
       const Eigen::Vector3d q = cluster_from_cam * pt.p_in_cam;
       const Eigen::Vector3d r = q - pt.model_mean;
@@ -201,12 +222,12 @@ Pose RegisterNoiseAware(const std::vector<RegistrationPoint>& points, const Pose
       Eigen::Matrix3d best_info = Eigen::Matrix3d::Zero();
       double best_m2 = 0.0;
       for (const Eigen::Matrix3d& cov_g : pt.model_covariances) {
-        const Eigen::Matrix3d s = cov_rotated + cov_g;
-        const Eigen::LLT<Eigen::Matrix3d> llt(s);
-        if (llt.info() != Eigen::Success) continue;
-        const Eigen::Matrix3d info = llt.solve(Eigen::Matrix3d::Identity());
+        const double log_det_cov_g = log_det_g[component++];
+        Eigen::Matrix3d info;
+        double det;
+        if (!InvertSpd3(cov_rotated + cov_g, &info, &det)) continue;
         const double m2 = r.dot(info * r);
-        const double cost = 0.5 * m2 + 0.5 * LogDet(s) + LogDet(cov_g);
+        const double cost = 0.5 * m2 + 0.5 * std::log(std::max(det, 1e-300)) + log_det_cov_g;
         if (cost < best_cost) {
           best_cost = cost;
           best_info = info;
@@ -216,12 +237,17 @@ Pose RegisterNoiseAware(const std::vector<RegistrationPoint>& points, const Pose
       if (!std::isfinite(best_cost)) continue;
       const double m = std::sqrt(best_m2);
       const double w = m <= k ? 1.0 : k / m;
-      Eigen::Matrix<double, 3, 6> J;
-      J.leftCols<3>() = -Skew(q);
-      J.rightCols<3>().setIdentity();
-      H += w * J.transpose() * best_info * J;
-      g += w * J.transpose() * best_info * r;
+      // J = [−[q]×  I], so JᵀAJ = [[−[q]× A [q]×, [q]× A], [(…)ᵀ, A]] and Jᵀ A r = [[q]× A r; A r]
+      // (upper blocks here; the lower-left one is mirrored after the loop).
+      const Eigen::Matrix3d qa = Skew(q) * best_info;
+      const Eigen::Vector3d ar = best_info * r;
+      H.topLeftCorner<3, 3>().noalias() -= w * qa * Skew(q);
+      H.topRightCorner<3, 3>().noalias() += w * qa;
+      H.bottomRightCorner<3, 3>().noalias() += w * best_info;
+      g.head<3>().noalias() += w * q.cross(ar);
+      g.tail<3>().noalias() += w * ar;
     }
+    H.bottomLeftCorner<3, 3>() = H.topRightCorner<3, 3>().transpose();
     const Eigen::Matrix<double, 6, 1> delta = -H.ldlt().solve(g);
     if (!delta.allFinite()) break;
     // Left perturbation: q' = Exp(δ) q, so R' = Exp(ω) R and t' = Exp(ω) t + v.

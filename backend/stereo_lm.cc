@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "backend/reprojection_error.h"
+#include "core/spd3.h"
 
 namespace cslam {
 namespace {
@@ -125,6 +126,19 @@ class Solver {
     order_.resize(p_.residuals.size());
     std::vector<int> fill(start_.begin(), start_.end() - 1);
     for (size_t k = 0; k < p_.residuals.size(); ++k) order_[fill[p_.residuals[k].point]++] = static_cast<int>(k);
+    // ... and, of those, the ones through free poses sorted by pose (the elimination's pairs).
+    free_start_.assign(n + 1, 0);
+    for (int l = 0; l < n; ++l) {
+      free_start_[l + 1] = free_start_[l];
+      for (int i = start_[l]; i < start_[l + 1]; ++i)
+        if (free_index_[p_.residuals[order_[i]].pose] >= 0) {
+          free_order_.push_back(order_[i]);
+          ++free_start_[l + 1];
+        }
+      std::sort(free_order_.begin() + free_start_[l], free_order_.end(), [&](int a, int b) {
+        return free_index_[p_.residuals[a].pose] < free_index_[p_.residuals[b].pose];
+      });
+    }
     // ... and the residuals through free poses grouped by pose.
     pose_start_.assign(num_free_ + 1, 0);
     for (const StereoLmResidual& r : p_.residuals)
@@ -334,31 +348,26 @@ class Solver {
     for (int l = 0; l < np; ++l) {
       Mat3 a = lin.h_point[l];
       for (int j = 0; j < 3; ++j) a(j, j) += Damping(a(j, j), mu);
-      Eigen::LLT<Mat3> llt(a);
-      if (llt.info() != Eigen::Success) return false;
-      inv[l] = llt.solve(Mat3::Identity());
+      double det;
+      if (!InvertSpd3(a, &inv[l], &det)) return false;
       v.clear();
       const Eigen::Vector3d gl = -lin.g_point[l];
-      for (int i = start_[l]; i < start_[l + 1]; ++i) {
-        const int k = order_[i];
-        const int f = free_index_[p_.residuals[k].pose];
-        if (f < 0) continue;
+      // The point's residuals through free poses in ascending pose order (free_order_), so
+      // that the upper triangle S_ab −= V_a W_bᵀ, b ≥ a, is the pairs j ≥ i.
+      const int* begin = free_order_.data() + free_start_[l];
+      const int count = free_start_[l + 1] - free_start_[l];
+      for (int i = 0; i < count; ++i) {
+        const int k = begin[i];
         v.push_back(lin.w[k] * inv[l]);
-        rhs.segment<6>(6 * f).noalias() -= v.back() * gl;
+        rhs.segment<6>(6 * free_index_[p_.residuals[k].pose]).noalias() -= v.back() * gl;
       }
-      // S_ab −= V_a W_bᵀ over the point's observations through free poses (upper triangle;
-      // the lower one is filled below).
-      int a_i = 0;
-      for (int i = start_[l]; i < start_[l + 1]; ++i) {
-        const int ka = order_[i];
-        const int fa = free_index_[p_.residuals[ka].pose];
-        if (fa < 0) continue;
-        for (int j = start_[l]; j < start_[l + 1]; ++j) {
-          const int kb = order_[j];
+      for (int i = 0; i < count; ++i) {
+        const int fa = free_index_[p_.residuals[begin[i]].pose];
+        for (int j = i; j < count; ++j) {
+          const int kb = begin[j];
           const int fb = free_index_[p_.residuals[kb].pose];
-          if (fb >= fa) s.block<6, 6>(6 * fa, 6 * fb).noalias() -= v[a_i] * lin.w[kb].transpose();
+          s.block<6, 6>(6 * fa, 6 * fb).noalias() -= v[i] * lin.w[kb].transpose();
         }
-        ++a_i;
       }
     }
     d_pose->assign(num_free_, Vec6::Zero());
@@ -517,6 +526,7 @@ class Solver {
   std::vector<int> free_index_;  // [pose] → index among the free poses, or −1
   int num_free_ = 0;
   std::vector<int> start_, order_;  // residuals by point
+  std::vector<int> free_start_, free_order_;  // residuals through free poses, by point and pose
   std::vector<int> pose_start_, pose_order_;  // residuals through free poses, by free pose
   std::vector<int> first_pose_, first_point_;  // profiles (ComputeProfiles)
   Linearisation lin_;

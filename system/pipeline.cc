@@ -365,6 +365,9 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
     warm_options.backend.window_prior.enabled = true;
     warm_options.backend.window_prior.max_iterations = options.batch.max_iterations;
     warm_options.backend.window_prior.ba_iterations = options.batch.ba_iterations;
+    // The whole-sequence solve is the last word on every frame: the batch tolerance, not the
+    // online windows' looser one.
+    warm_options.backend.window_prior.function_tolerance = 0;
   }
   BackendStage backend(input, warm_options, backend_fn);
   for (const FrameRange& r : segments) {
