@@ -17,7 +17,6 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Mat63 = Eigen::Matrix<double, 6, 3>;
 using Mat36 = Eigen::Matrix<double, 3, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
-using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
 // Ceres' defaults for what StereoLmOptions does not expose.
 constexpr double kInitialRadius = 1e4;
@@ -262,33 +261,58 @@ class Solver {
     lin.h_point.assign(p_.points.size(), Mat3::Zero());
     lin.g_point.assign(p_.points.size(), Eigen::Vector3d::Zero());
     lin.w.resize(p_.residuals.size());
+    // Each pose's rotation matrix once: the quaternions are unit (Apply normalises; starts come
+    // from rotation matrices), so ∂(q·X)/∂X = R. The residual's own Jacobian routine
+    // (reprojection_error.h) differentiates the unnormalised quaternion product per residual,
+    // which cost most of this loop.
+    rotation_.resize(p_.poses.size());
+    for (size_t i = 0; i < p_.poses.size(); ++i)
+      rotation_[i] = Eigen::Map<const Eigen::Quaterniond>(p_.poses[i]).toRotationMatrix();
+    const double fx = camera_.fx, fy = camera_.fy, fb = camera_.fx * camera_.baseline;
     for (size_t k = 0; k < p_.residuals.size(); ++k) {
       const StereoLmResidual& r = p_.residuals[k];
-      const double* pose = p_.poses[r.pose];
-      const double* point = p_.points[r.point];
-      Eigen::Vector3d e;
-      RowMat3 d_t, d_point;
-      StereoReprojectionWithJacobians(camera_, r.x, r.sqrt_info, pose, pose + 4, point, e.data(),
-                                      nullptr, d_t.data(), d_point.data());
+      const Mat3& rot = rotation_[r.pose];
+      const Eigen::Vector3d rx = rot * Eigen::Map<const Eigen::Vector3d>(p_.points[r.point]);
+      const Eigen::Vector3d pc = rx + Eigen::Map<const Eigen::Vector3d>(p_.poses[r.pose] + 4);
+      // Cost() accepted this state, so every point is in front of its camera.
+      const double inv_z = 1.0 / pc.z();
+      const double u = pc.x() * inv_z, v = pc.y() * inv_z;
+      const Eigen::Vector3d predicted(fx * u + camera_.cx, fy * v + camera_.cy,
+                                      fx * u + camera_.cx - fb * inv_z);
+      const Eigen::Vector3d e = r.sqrt_info * (r.x - predicted);
+      Mat3 d_projection;
+      d_projection << fx * inv_z, 0.0, -fx * u * inv_z,  //
+          0.0, fy * inv_z, -fy * v * inv_z,              //
+          fx * inv_z, 0.0, -(fx * u - fb * inv_z) * inv_z;
+      const Mat3 d_cam = -r.sqrt_info * d_projection;  // ∂r/∂p_cam
       double rho, weight;
       Kernel(options_, e.squaredNorm(), &rho, &weight);
-      const Mat3 jl = d_point;
-      lin.h_point[r.point].noalias() += weight * jl.transpose() * jl;
-      lin.g_point[r.point].noalias() += weight * jl.transpose() * e;
+      // With D = d_cam, A = w DᵀD and b = w Dᵀe, the point's Jacobian D R and the pose's
+      // D [−[rx]×  I] (left perturbation R ← Exp(φ) R) give every block from 3×3 products:
+      // H_point = Rᵀ A R, g_point = Rᵀ b, W = [[rx]× A R; A R], g_pose = [rx × b; b],
+      // H_pose = [[−[rx]× A [rx]×, [rx]× A], [(…)ᵀ, A]] — a third of the arithmetic of
+      // forming the 3×6 and 3×3 Jacobians and multiplying them out.
+      const Mat3 a = weight * d_cam.transpose() * d_cam;
+      const Eigen::Vector3d b = weight * d_cam.transpose() * e;
+      const Mat3 ar = a * rot;
+      lin.h_point[r.point].noalias() += rot.transpose() * ar;
+      lin.g_point[r.point].noalias() += rot.transpose() * b;
       const int f = free_index_[r.pose];
       if (f < 0) {
         lin.w[k].setZero();
         continue;
       }
-      // Left perturbation R ← Exp(φ) R: ∂(R X + t)/∂φ = −[R X]×, ∂/∂t = I, and ∂r/∂p_cam = d_t.
-      const Eigen::Map<const Eigen::Quaterniond> q(pose);
-      const Eigen::Vector3d rx = q * Eigen::Map<const Eigen::Vector3d>(point);
-      Mat36 jp;
-      jp.leftCols<3>() = d_t * Skew(rx) * -1.0;
-      jp.rightCols<3>() = d_t;
-      lin.h_pose[f].noalias() += weight * jp.transpose() * jp;
-      lin.g_pose[f].noalias() += weight * jp.transpose() * e;
-      lin.w[k].noalias() = weight * jp.transpose() * jl;
+      const Mat3 q = Skew(rx);
+      const Mat3 qa = q * a;
+      Mat6& h = lin.h_pose[f];
+      h.topLeftCorner<3, 3>().noalias() -= qa * q;
+      h.topRightCorner<3, 3>() += qa;
+      h.bottomLeftCorner<3, 3>() += qa.transpose();
+      h.bottomRightCorner<3, 3>() += a;
+      lin.g_pose[f].head<3>() += rx.cross(b);
+      lin.g_pose[f].tail<3>() += b;
+      lin.w[k].topRows<3>().noalias() = q * ar;
+      lin.w[k].bottomRows<3>() = ar;
     }
   }
 
@@ -530,6 +554,7 @@ class Solver {
   std::vector<int> pose_start_, pose_order_;  // residuals through free poses, by free pose
   std::vector<int> first_pose_, first_point_;  // profiles (ComputeProfiles)
   Linearisation lin_;
+  std::vector<Mat3> rotation_;  // [pose] at the linearisation point
   std::vector<std::array<double, 7>> pose_store_;
   std::vector<std::array<double, 3>> point_store_;
   std::vector<double*> candidate_poses_, candidate_points_;

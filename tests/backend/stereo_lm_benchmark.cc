@@ -64,21 +64,22 @@ WindowProblem MakeWindowProblem(int frames, int num_points, unsigned seed) {
   return w;
 }
 
-void BM_StereoLmStaticWindow(benchmark::State& state) {
-  const WindowProblem initial = MakeWindowProblem(30, 1700, 5);
-  StereoLmOptions options;
-  options.max_iterations = static_cast<int>(state.range(0));
-  options.function_tolerance = 1e-15;
+StereoLmProblem Bind(WindowProblem* w) {
+  StereoLmProblem p;
+  for (auto& pose : w->poses) p.poses.push_back(pose.data());
+  p.pose_free.assign(w->poses.size(), true);
+  p.pose_free[0] = false;
+  for (auto& point : w->points) p.points.push_back(point.data());
+  p.residuals = w->residuals;
+  return p;
+}
+
+void Run(benchmark::State& state, const WindowProblem& initial, const StereoLmOptions& options) {
   StereoLmSummary summary;
   for (auto _ : state) {
     state.PauseTiming();
     WindowProblem w = initial;
-    StereoLmProblem p;
-    for (auto& pose : w.poses) p.poses.push_back(pose.data());
-    p.pose_free.assign(w.poses.size(), true);
-    p.pose_free[0] = false;
-    for (auto& point : w.points) p.points.push_back(point.data());
-    p.residuals = w.residuals;
+    StereoLmProblem p = Bind(&w);
     state.ResumeTiming();
     summary = SolveStereoLm(w.camera, options, &p);
     benchmark::DoNotOptimize(w.poses.data());
@@ -88,7 +89,29 @@ void BM_StereoLmStaticWindow(benchmark::State& state) {
   state.counters["lm_iterations"] = summary.iterations;
   state.counters["cost_ratio"] = summary.final_cost / summary.initial_cost;
 }
+
+void BM_StereoLmStaticWindow(benchmark::State& state) {
+  StereoLmOptions options;
+  options.max_iterations = static_cast<int>(state.range(0));
+  options.function_tolerance = 1e-15;
+  Run(state, MakeWindowProblem(30, 1700, 5), options);
+}
 BENCHMARK(BM_StereoLmStaticWindow)->ArgName("lm")->Arg(1)->Arg(5)->Unit(benchmark::kMillisecond);
+
+// A window's moving cluster: `points` landmarks of one body over the 30 frames (a moving
+// cluster's solve is the same problem in the body's frame), 10 LM iterations, the reduced
+// system factored densely (profile 0) or by its profile (1).
+void BM_StereoLmMovingCluster(benchmark::State& state) {
+  StereoLmOptions options;
+  options.max_iterations = 10;
+  options.function_tolerance = 1e-15;
+  options.profile_cholesky = state.range(1) != 0;
+  Run(state, MakeWindowProblem(30, static_cast<int>(state.range(0)), 7), options);
+}
+BENCHMARK(BM_StereoLmMovingCluster)
+    ->ArgNames({"points", "profile"})
+    ->ArgsProduct({{15, 60, 200}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace cslam
