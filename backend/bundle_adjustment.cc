@@ -19,6 +19,7 @@
 #include "backend/stereo_lm.h"
 #include "core/errors.h"
 #include "core/logging.h"
+#include "core/spd3.h"
 #include "core/timer.h"
 
 namespace cslam {
@@ -96,6 +97,8 @@ void BundleAdjustmentOptions::Check() const {
   CheckOption(robust_threshold_chi2 > 0, "robust_threshold_chi2", "must be > 0",
               robust_threshold_chi2);
   CheckOption(max_iterations >= 0, "max_iterations", "must be >= 0", max_iterations);
+  CheckOption(moving_max_iterations >= -1, "moving_max_iterations",
+              "must be >= 0 (-1: max_iterations)", moving_max_iterations);
   CheckOption(function_tolerance > 0, "function_tolerance", "must be > 0", function_tolerance);
   CheckOption(num_threads >= 1, "num_threads", "must be >= 1", num_threads);
   CheckOption(min_observations_per_pose >= 1, "min_observations_per_pose", "must be >= 1",
@@ -113,6 +116,7 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   robust_kernel = ParseRobustKernel(kernel_text, reader.Where("robust_kernel"));
   reader.Read("robust_threshold_chi2", &robust_threshold_chi2);
   reader.Read("max_iterations", &max_iterations);
+  reader.Read("moving_max_iterations", &moving_max_iterations);
   reader.Read("function_tolerance", &function_tolerance);
   reader.Read("num_threads", &num_threads);
   reader.Read("min_observations_per_pose", &min_observations_per_pose);
@@ -552,7 +556,9 @@ class Adjuster {
   /// Step (1): one moving cluster's landmarks and per-frame T^{cq}_t.
   void SolveCluster(ClusterState* cs, BundleAdjustmentSummary* summary) {
     const int label = cs->motion->cluster;
-    Solve solve(camera_, options_, "cluster " + std::to_string(label));
+    BundleAdjustmentOptions options = options_;
+    if (options.moving_max_iterations >= 0) options.max_iterations = options.moving_max_iterations;
+    Solve solve(camera_, options, "cluster " + std::to_string(label));
     ObservationCount counts;
     for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
       if (est_.landmark_cluster[i] != label || !Adjusted(i)) continue;
@@ -775,7 +781,9 @@ double EvaluateChi2(const TrackletTable& table, const StereoCamera& camera,
       Eigen::Vector3d predicted;
       camera.Project(p_in_cam, &predicted);
       const Eigen::Vector3d e = obs.x - predicted;
-      const double m2 = e.dot(obs.cov.ldlt().solve(e));
+      Eigen::Matrix3d info;
+      double det;
+      const double m2 = InvertSpd3(obs.cov, &info, &det) ? e.dot(info * e) : e.dot(obs.cov.ldlt().solve(e));
       sum += m2;
       ++num;
     }

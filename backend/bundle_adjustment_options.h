@@ -45,6 +45,9 @@ struct BundleAdjustmentOptions {
   double robust_threshold_chi2 = 7.815;
   /// Levenberg–Marquardt iterations per solve [paper ablation: 20].
   int max_iterations = 50;
+  /// LM iterations of the moving clusters' solves (the decoupled scheme's step 1, and the
+  /// semi-coupled one's); < 0: max_iterations.
+  int moving_max_iterations = -1;
   /// Relative cost decrease below which a solve stops.
   double function_tolerance = 1e-6;
   /// Threads Ceres may use inside one solve (1 on the shared machine).

@@ -37,6 +37,8 @@ void WindowPriorOptions::Check() const {
               max_iterations);
   CheckOption(ba_iterations >= 1, "clusterslam.window_prior.ba_iterations", "must be >= 1",
               ba_iterations);
+  CheckOption(moving_ba_iterations >= 0, "clusterslam.window_prior.moving_ba_iterations",
+              "must be >= 0 (0: ba_iterations)", moving_ba_iterations);
   CheckOption(function_tolerance >= 0 && function_tolerance < 1,
               "clusterslam.window_prior.function_tolerance", "must be in [0, 1)",
               function_tolerance);
@@ -54,6 +56,7 @@ void WindowPriorOptions::Load(OptionsReader& reader) {
   reader.Read("max_iterations", &max_iterations);
   reader.Read("ba_iterations", &ba_iterations);
   reader.Read("function_tolerance", &function_tolerance);
+  reader.Read("moving_ba_iterations", &moving_ba_iterations);
   reader.Read("adjust_prior", &adjust_prior);
   reader.Read("keep_moving_labels", &keep_moving_labels);
   reader.Read("fix_known_poses", &fix_known_poses);
@@ -381,6 +384,8 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
   first.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
   if (opts.window_prior.function_tolerance > 0)
     first.bundle_adjustment.function_tolerance = opts.window_prior.function_tolerance;
+  if (opts.window_prior.moving_ba_iterations > 0)
+    first.bundle_adjustment.moving_max_iterations = opts.window_prior.moving_ba_iterations;
   std::vector<bool> fixed_cameras(range.size(), false);
   if (opts.window_prior.fix_known_poses) {
     // The newest `free_known_frames` known poses stay free: the map has each frame's pose from
@@ -415,6 +420,8 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
   motion.bundle_adjustment.max_iterations = opts.window_prior.ba_iterations;
   if (opts.window_prior.function_tolerance > 0)
     motion.bundle_adjustment.function_tolerance = opts.window_prior.function_tolerance;
+  if (opts.window_prior.moving_ba_iterations > 0)
+    motion.bundle_adjustment.moving_max_iterations = opts.window_prior.moving_ba_iterations;
   MovingClusterCache cache;
   std::vector<int> reclusterings(raw.size(), 0);  // per landmark, over this window's rounds
   bool adjusted = false;

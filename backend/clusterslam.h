@@ -58,6 +58,8 @@ struct WindowPriorOptions {
   /// camera ATE, clustering and objects on KITTI, the odometry clip and the synthetic runs
   /// (docs/benchmarks.md, "Window speed").
   double function_tolerance = 1e-3;
+  /// LM iterations of each moving cluster's solve in a window; 0 = ba_iterations.
+  int moving_ba_iterations = 0;
   /// Adjust the prior's first estimate (its labels, the new landmarks left out) before the
   /// model assignment; false: the assignment sees the shape initialisation of the moving
   /// clusters as it is.

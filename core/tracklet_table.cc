@@ -1,6 +1,7 @@
 #include "core/tracklet_table.h"
 
 #include <algorithm>
+#include <limits>
 #include <unordered_map>
 
 #include "core/errors.h"
@@ -124,16 +125,21 @@ std::vector<int> TrackletTable::LandmarksIn(FrameRange range, int min_observatio
   const int begin = std::max(range.begin, 0), end = std::min(range.end, num_frames());
   if (begin >= end) return out;
   // Count per landmark through the per-frame index: cost is the window's size, not the table's.
-  std::vector<int> seen;
+  // Ids are handed out in order, so a window's span few more ids than it has landmarks: a
+  // count per id of that span replaces sorting every observation (called several times per
+  // online window).
+  int lo = std::numeric_limits<int>::max(), hi = -1;
   for (int f = begin; f < end; ++f)
-    for (const auto& ref : by_frame_[f]) seen.push_back(ref.landmark);
-  std::sort(seen.begin(), seen.end());
-  for (size_t i = 0; i < seen.size();) {
-    size_t j = i;
-    while (j < seen.size() && seen[j] == seen[i]) ++j;
-    if (static_cast<int>(j - i) >= min_observations) out.push_back(seen[i]);
-    i = j;
-  }
+    for (const auto& ref : by_frame_[f]) {
+      lo = std::min(lo, ref.landmark);
+      hi = std::max(hi, ref.landmark);
+    }
+  if (hi < lo) return out;
+  std::vector<int> count(static_cast<size_t>(hi - lo) + 1, 0);
+  for (int f = begin; f < end; ++f)
+    for (const auto& ref : by_frame_[f]) ++count[ref.landmark - lo];
+  for (int i = 0; i <= hi - lo; ++i)
+    if (count[i] > 0 && count[i] >= min_observations) out.push_back(lo + i);
   return out;
 }
 
