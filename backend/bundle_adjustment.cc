@@ -20,6 +20,7 @@
 #include "core/errors.h"
 #include "core/logging.h"
 #include "core/spd3.h"
+#include "core/task_runner.h"
 #include "core/timer.h"
 
 namespace cslam {
@@ -535,11 +536,27 @@ class Adjuster {
 
   BundleAdjustmentSummary Run() {
     BundleAdjustmentSummary summary;
-    if (options_.coupling != BaCoupling::kFullyCoupled)
-      for (ClusterState& cs : clusters_) SolveCluster(&cs, &summary);
     if (options_.coupling == BaCoupling::kDecoupled) {
-      SolveStatic(&summary);
+      // Step (1) and step (2) share no unknowns: every moving cluster's solve and the static
+      // one may run side by side (options.runner). Each writes only its own poses and points
+      // and its own summary, merged in a fixed order, so the result does not depend on the
+      // runner. The static solve, the largest, is task 0 so that it starts first.
+      const int n = static_cast<int>(clusters_.size());
+      std::vector<BundleAdjustmentSummary> parts(n + 1);
+      RunTasks(options_.runner.get(), n + 1, [&](int task) {
+        if (task == 0)
+          SolveStatic(&parts[n]);
+        else
+          SolveCluster(&clusters_[task - 1], &parts[task - 1]);
+      });
+      for (const BundleAdjustmentSummary& part : parts) {
+        summary.iterations += part.iterations;
+        summary.num_solves += part.num_solves;
+        summary.usable = summary.usable && part.usable;
+      }
     } else {
+      if (options_.coupling != BaCoupling::kFullyCoupled)
+        for (ClusterState& cs : clusters_) SolveCluster(&cs, &summary);
       SolveCoupled(&summary);
     }
     WriteBack();

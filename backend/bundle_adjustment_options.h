@@ -1,9 +1,11 @@
 #pragma once
 // Options of the multi-body bundle adjustment (backend/bundle_adjustment.h), apart from it so
 // that MotionEstimationOptions can hold them without a circular include.
+#include <memory>
 #include <string>
 
 #include "core/options_reader.h"
+#include "core/task_runner.h"
 
 namespace cslam {
 
@@ -95,6 +97,10 @@ struct BundleAdjustmentOptions {
   /// labellings — accuracy 0.948 → 0.910 (seed 1), 8 → 6 objects (seed 2) — so off by
   /// default; docs/benchmarks.md, "Native profile solver"].
   bool native_sparse_solver = false;
+  /// Not from YAML: runs the decoupled scheme's solves (each moving cluster, the static
+  /// world) side by side; null: one after another. The result is the same either way. Set by
+  /// system/ (pipeline option `backend_threads`).
+  std::shared_ptr<const TaskRunner> runner;
 
   /// Throws ConfigError naming the field that breaks its rule.
   void Check() const;

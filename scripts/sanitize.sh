@@ -20,8 +20,9 @@ TSAN_DIR=${TSAN_DIR:-build-tsan}
 # over the test's 2e-5 (gcc passes); a numerical portability issue of the backend, reported,
 # not a sanitizer finding. The gcc suite keeps running it.
 ASAN_EXCLUDE=${ASAN_EXCLUDE-'^MotionDistance\.FastSumsMatchTheNaiveFormulaForEveryVariant$|^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|AFailedWindowIsDiscardedAndTheRunGoesOn|ThreadedOnlineRunEqualsTheSequentialOne)$|^cslam_demo_writes_every_output$|^EstimateMotions\.(TrueLabelsGiveAnAccurateCameraWhileFullBaIsBiased|ProgressiveDcsSplitsOffMovingPoints)$|^SyntheticScene\.(PresetsDrawSizesFromThePapersRanges|MovingObjectsMoveRealisticallyAndStayInView|OutdoorSeedOneMeetsTheSizeTarget)$|^BundleAdjustment\.(RobustKernelsResistGrossOutliers|CouplingModesAgreeOnACleanScene)$|^ClusterSlamSynthetic\.|^ZeroNoiseSynthetic\.|OutdoorBaseline|^CliFrameRenders\.ZeroTurnsThePicturesOff$|^Pipeline\.ForgettingOldObservationsChangesNoResult$'}
-# The threaded pipeline: the in-process pipeline tests and `cslam run` under signals.
-TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|CliSignal|^CliTrackingLoss'}
+# The threaded pipeline: the in-process pipeline tests, the backend's worker pool and `cslam run`
+# under signals.
+TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|^WorkerPool\.|CliSignal|^CliTrackingLoss'}
 # Batch mode runs in one thread of ours: nothing for TSan to see (6 min under it). The
 # warm-started batch's 60-pose solves go to CHOLMOD, whose OpenMP threads (libgomp, built
 # without TSan) TSan reports as racing on CHOLMOD's own workspace; the test runs in the gcc

@@ -16,6 +16,7 @@
 #include "system/bounded_queue.h"
 #include "system/estimate_sanity.h"
 #include "system/window_prior.h"
+#include "system/worker_pool.h"
 
 namespace cslam {
 
@@ -575,11 +576,15 @@ BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera,
   return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
 }
 
-PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options,
+PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
                            const std::atomic<bool>* stop, const ProgressCallback& progress,
                            const BackendFunction& backend) {
   Timer timer;
   PipelineResult out;
+  PipelineOptions options = given;
+  BundleAdjustmentOptions& ba = options.backend.motion.bundle_adjustment;
+  if (options.backend_threads > 1 && !ba.runner)
+    ba.runner = std::make_shared<WorkerPool>(options.backend_threads);
   // The self-calibration wraps the backend call (system/disparity_offset_calibration.h).
   DisparityOffsetCalibrator calibrator(options.calibration, backend ? backend : BackendFunction(RunBackend));
   const BackendFunction calibrated = [&calibrator](const TrackletTable& t, const StereoCamera& c,

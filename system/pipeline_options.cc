@@ -70,6 +70,7 @@ void PipelineOptions::Check() const {
   CheckMember("method", method, {"clusterslam", "full-ba", "pdcs"});
   CheckMember("ablation", ablation, {"none", "no-u", "no-i", "p2p-icp"});
   CheckMember("mode", mode, {"online", "batch"});
+  CheckOption(backend_threads >= 1, "backend_threads", "must be >= 1", backend_threads);
   input.Check();
   frontend.Check();
   backend.Check();
@@ -105,6 +106,7 @@ void PipelineOptions::Load(OptionsReader& r) {
   r.Read("ablation", &a);
   if (!r.dumping() && a != ablation) ApplyAblation(a);
   r.Read("mode", &mode);
+  r.Read("backend_threads", &backend_threads);
   auto in = r.Section("input");
   input.Load(in);
   auto fe = r.Section("frontend");

@@ -1,0 +1,42 @@
+#include "system/worker_pool.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "core/errors.h"
+
+namespace cslam {
+
+WorkerPool::WorkerPool(int threads) : threads_(threads) {
+  CSLAM_CHECK(threads >= 1, "WorkerPool needs at least one thread");
+}
+
+void WorkerPool::Run(int n, const std::function<void(int)>& task) const {
+  std::atomic<int> next{0};
+  std::mutex mutex;
+  std::exception_ptr first_error;
+  // Each thread takes the next undone index until none is left, so a long task (the static
+  // solve) does not hold back the short ones queued behind it.
+  auto work = [&] {
+    for (int i; (i = next.fetch_add(1)) < n;) {
+      try {
+        task(i);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!first_error) first_error = std::current_exception();
+      }
+    }
+  };
+  {
+    std::vector<std::jthread> helpers;
+    for (int t = 1; t < std::min(threads_, n); ++t) helpers.emplace_back(work);
+    work();
+  }  // joined here
+  if (first_error) std::rethrow_exception(first_error);
+}
+
+}  // namespace cslam
