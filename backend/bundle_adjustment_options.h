@@ -98,8 +98,8 @@ struct BundleAdjustmentOptions {
   /// default; docs/benchmarks.md, "Native profile solver"].
   bool native_sparse_solver = false;
   /// Not from YAML: runs the decoupled scheme's solves (each moving cluster, the static
-  /// world) side by side; null: one after another. The result is the same either way. Set by
-  /// system/ (pipeline option `backend_threads`).
+  /// world) side by side, and EstimateMotions' shape initialisations; null: one after another.
+  /// The result is the same either way. Set by system/ (pipeline option `backend_threads`).
   std::shared_ptr<const TaskRunner> runner;
 
   /// Throws ConfigError naming the field that breaks its rule.
