@@ -368,7 +368,8 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
         const MotionAgreement agreement =
             CompareMotions(older == 0 ? StaticTrajectory(y->second.world_from_cluster)
                                       : o->second.world_from_cluster,
-                           y->second.world_from_cluster, points, world_from_cam_);
+                           y->second.world_from_cluster, points, world_from_cam_,
+                           options_.motion_min_frames);
         if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
           continue;
         GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m)",

@@ -27,10 +27,13 @@ struct MotionAgreement {
 /// points in b's frame: what matters is how far the body's own points would be misplaced).
 /// Fewer than 3 points are padded with points 1 m along the axes from their centroid (the
 /// origin if none), so a rotation is still measured. frames == 0 when nothing is shared.
+/// With fewer than `min_frames` shared frames only `frames` is filled (the caller's test
+/// fails anyway; the map compares every pair of clusters after each window).
 MotionAgreement CompareMotions(const std::map<int, Pose>& world_from_a,
                                const std::map<int, Pose>& world_from_b,
-                               std::vector<Eigen::Vector3d> points_in_b,
-                               const std::vector<std::optional<Pose>>& world_from_cam = {});
+                               const std::vector<Eigen::Vector3d>& points_in_b,
+                               const std::vector<std::optional<Pose>>& world_from_cam = {},
+                               int min_frames = 1);
 
 /// A trajectory that holds still at the identity at `frames` (the static world seen as a
 /// cluster).
