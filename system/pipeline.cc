@@ -365,6 +365,11 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
     warm_options.backend.window_prior.enabled = true;
     warm_options.backend.window_prior.max_iterations = options.batch.max_iterations;
     warm_options.backend.window_prior.ba_iterations = options.batch.ba_iterations;
+    // This also reaches the cold loop when the map's prior is unusable (too few of its
+    // windows kept); there the native solver was measured to end on other labellings
+    // (docs/benchmarks.md, "Native profile solver"), a rare case not worth a second stage.
+    warm_options.backend.motion.bundle_adjustment.native_sparse_solver =
+        options.batch.native_sparse_solver;
   }
   BackendStage backend(input, warm_options, backend_fn);
   for (const FrameRange& r : segments) {
