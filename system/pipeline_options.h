@@ -43,9 +43,10 @@ struct OnlineOptions {
 /// labels and positions; moving landmarks start unlabelled and are re-clustered). On by
 /// default since 2026-12-02 (docs/benchmarks.md, "Batch warm start by default"): on outdoor
 /// seeds 1–4 (200 frames) and indoor seeds 1–6 (100 frames) its accuracy and camera ATE are
-/// at least the cold loop's on the means, in a fifth to a half of the CPU. It inherits the
+/// at least the cold loop's on the means, in a tenth to a third of the CPU, and at full length
+/// the cold loop loses the camera on outdoor seeds 2–3 where this does not. It inherits the
 /// online windows' failures: where the first 30-frame window takes the cars for the static
-/// world, so does the batch (measured there; cold loop: `warm_start: false`).
+/// world, so does the batch (cold loop: `warm_start: false`).
 struct BatchOptions {
   bool warm_start = true;  ///< ClusterSLAM only; the baselines ignore it
   /// Rounds of model assignment + estimation over the whole sequence from the prior
