@@ -369,6 +369,11 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
     // The whole-sequence solve is the last word on every frame: the batch tolerance, not the
     // online windows' looser one.
     warm_options.backend.window_prior.function_tolerance = 0;
+    // This also reaches the cold loop when the map's prior is unusable (too few of its
+    // windows kept); there the native solver was measured to end on other labellings
+    // (docs/benchmarks.md, "Native profile solver"), a rare case not worth a second stage.
+    warm_options.backend.motion.bundle_adjustment.native_sparse_solver =
+        options.batch.native_sparse_solver;
   }
   BackendStage backend(input, warm_options, backend_fn);
   for (const FrameRange& r : segments) {

@@ -37,6 +37,7 @@ void BatchOptions::Load(OptionsReader& r) {
   r.Read("warm_start", &warm_start);
   r.Read("max_iterations", &max_iterations);
   r.Read("ba_iterations", &ba_iterations);
+  r.Read("native_sparse_solver", &native_sparse_solver);
   r.Finish();
 }
 
