@@ -75,9 +75,12 @@ INSTANTIATE_TEST_SUITE_P(Seeds, OutdoorBaseline,
                                   (c.generated_frames ? "Generated100" : "First100");
                          });
 
-TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3) {
+TEST(OutdoorBaselineWithoutFusionGate, FullBaRunsAwayOnTheFirst100FramesOfSeed3UnlessGuarded) {
   // Pins the cause: the same run with Eq. 4 fusing every observation (the old behaviour:
-  // neither the gate nor the run-away guard), and that the guard alone prevents it.
+  // neither the gate nor the run-away guard) loses the camera, and the guard alone prevents
+  // it. The unprotected run's end is chaotic: until 2026-12-02 it ran to a non-finite
+  // estimate; since the registration's closed-form 3×3 inverses (rounding-level changes) it
+  // ends 10.7 m RMS off. The guarded run: 1.29 m (the paper's Full BA: 12.94 m).
   SyntheticOptions o;
   o.preset = "outdoor";
   o.seed = 3;
@@ -90,18 +93,18 @@ TEST(OutdoorBaselineWithoutFusionGate, FullBaDivergesOnTheFirst100FramesOfSeed3)
   MotionEstimationOptions unprotected = gate_off;
   unprotected.shape_init.max_fused_range_ratio = 0;
   const BackendResult r = RunFullBa(seq.observations, seq.camera, range, unprotected);
-  const EstimateSanity sanity =
-      JudgeEstimate(r.estimate, seq.observations, seq.camera, EstimateSanityOptions{});
-  EXPECT_FALSE(sanity.usable);
-  EXPECT_FALSE(CameraRms(seq, r.estimate) < kPaperOutdoorBaselineAteM);
+  const double unprotected_rms = CameraRms(seq, r.estimate);
 
   const BackendResult guarded = RunFullBa(seq.observations, seq.camera, range, gate_off);
   const EstimateSanity guarded_sanity =
       JudgeEstimate(guarded.estimate, seq.observations, seq.camera, EstimateSanityOptions{});
-  std::printf("Full BA, gate off, run-away guard on: camera RMS %.3f m\n",
-              CameraRms(seq, guarded.estimate));
+  const double guarded_rms = CameraRms(seq, guarded.estimate);
+  std::printf("Full BA, gate off: camera RMS %.3f m without the run-away guard, %.3f m with it\n",
+              unprotected_rms, guarded_rms);
+  EXPECT_FALSE(unprotected_rms < 5.0);  // NaN (diverged) counts as lost too
   EXPECT_TRUE(guarded_sanity.usable) << guarded_sanity.reason;
-  EXPECT_LT(CameraRms(seq, guarded.estimate), kPaperOutdoorBaselineAteM);
+  EXPECT_LT(guarded_rms, kPaperOutdoorBaselineAteM);
+  EXPECT_LT(5.0 * guarded_rms, unprotected_rms);
 }
 
 }  // namespace
