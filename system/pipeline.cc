@@ -15,6 +15,7 @@
 #include "core/timer.h"
 #include "system/bounded_queue.h"
 #include "system/estimate_sanity.h"
+#include "system/thread_priority.h"
 #include "system/window_prior.h"
 #include "system/worker_pool.h"
 
@@ -432,7 +433,13 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   auto stopping = [&] { return abort.load() || StopRequested(stop); };
   double read_ms = 0, read_cpu_ms = 0;
 
+  auto lower_priority = [&](const char* stage) {
+    if (!LowerThisThreadPriority(online.frontend_nice))
+      GetLogger("system")->warn("online.frontend_nice {}: the {} thread keeps its priority",
+                                online.frontend_nice, stage);
+  };
   std::thread reader([&] {
+    lower_priority("reader");
     try {
       Pacer pacer(input.timestamps);
       for (int f = 0; f < n && !stopping(); ++f) {
@@ -448,6 +455,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
 
   ResourceSampler sampler(kResourceSampleEvery);
   std::thread frontend([&] {
+    lower_priority("frontend");
     WindowScheduler windows(online);
     try {
       bool backend_gone = false;

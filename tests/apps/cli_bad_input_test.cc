@@ -269,6 +269,11 @@ TEST_F(CliConfig, OutOfRangeValue) {
                  config().string() + ": online.window_frames: must be at least 5 frames, got 2");
 }
 
+TEST_F(CliConfig, NiceIncrementOutsideTheKernelsRange) {
+  ExpectRejected(RunWithConfig("online:\n  frontend_nice: 20\n"), kExitConfigError,
+                 config().string() + ": online.frontend_nice: must be in [0, 19]");
+}
+
 TEST_F(CliConfig, NotYaml) {
   ExpectRejected(RunWithConfig("online: [1, 2\n"), kExitConfigError, config().string() + ":2: not valid YAML");
 }
