@@ -9,6 +9,7 @@
 #include "core/logging.h"
 #include "system/image_io.h"
 #include "system/overlay_renderer.h"
+#include "system/thread_priority.h"
 
 namespace cslam {
 
@@ -74,7 +75,7 @@ void FillSnapshot(const MapState& map, const RunInput& input, int frame,
 }  // namespace
 
 FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
-                           std::string out_dir, bool threaded)
+                           std::string out_dir, bool threaded, int writer_nice)
     : input_(input),
       snapshots_every_(out_dir.empty() ? 0 : options.snapshots_every),
       overlays_every_(out_dir.empty() || !input.has_images() ? 0 : options.overlays_every),
@@ -84,7 +85,9 @@ FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
     GetLogger("system")->info("overlays need input images: none for {} input", input.kind);
   if (!enabled() || !threaded) return;
   queue_ = std::make_unique<BoundedQueue<Job>>(2);
-  writer_ = std::thread([this] {
+  writer_ = std::thread([this, writer_nice] {
+    if (!LowerThisThreadPriority(writer_nice))
+      GetLogger("system")->warn("nice {}: the render writer keeps its priority", writer_nice);
     while (auto job = queue_->Pop()) Draw(*job);
   });
 }

@@ -27,9 +27,10 @@ struct FrameRenderStats {
 /// Renders the per-frame pictures of OutputOptions into `out_dir`/render; see the file comment.
 class FrameRenders {
  public:
-  /// `threaded`: draw on a writer thread; otherwise inline, in order (sequential runs).
+  /// `threaded`: draw on a writer thread, its nice value raised by `writer_nice` (see
+  /// OnlineOptions::background_nice); otherwise inline, in order (sequential runs).
   FrameRenders(const RunInput& input, const OutputOptions& options, std::string out_dir,
-               bool threaded);
+               bool threaded, int writer_nice = 0);
   ~FrameRenders();
   FrameRenders(const FrameRenders&) = delete;
   FrameRenders& operator=(const FrameRenders&) = delete;

@@ -77,7 +77,8 @@ class BackendStage {
       : camera_(input.camera), options_(options),
         backend_(backend ? backend : BackendFunction(RunBackend)), map_(options.map),
         renders_(input, options.output, options.out_dir,
-                 !(options.mode == "online" && options.online.sequential)) {}
+                 !(options.mode == "online" && options.online.sequential),
+                 options.mode == "online" ? options.online.background_nice : 0) {}
 
   /// `given` (may be null): the prior of a warm-started batch call (built from another map).
   WindowStats Process(const TrackletTable& window_table, FrameRange range,
@@ -434,9 +435,9 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   double read_ms = 0, read_cpu_ms = 0;
 
   auto lower_priority = [&](const char* stage) {
-    if (!LowerThisThreadPriority(online.frontend_nice))
-      GetLogger("system")->warn("online.frontend_nice {}: the {} thread keeps its priority",
-                                online.frontend_nice, stage);
+    if (!LowerThisThreadPriority(online.background_nice))
+      GetLogger("system")->warn("online.background_nice {}: the {} thread keeps its priority",
+                                online.background_nice, stage);
   };
   std::thread reader([&] {
     lower_priority("reader");

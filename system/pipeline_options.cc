@@ -12,9 +12,9 @@ void OnlineOptions::Check() const {
               "must be in [1, window_frames - 2] so consecutive windows share frames", window_every);
   CheckOption(frame_queue >= 1, "online.frame_queue", "must be >= 1", frame_queue);
   CheckOption(window_queue >= 1, "online.window_queue", "must be >= 1", window_queue);
-  CheckOption(frontend_nice >= 0 && frontend_nice <= 19, "online.frontend_nice",
+  CheckOption(background_nice >= 0 && background_nice <= 19, "online.background_nice",
               "must be in [0, 19] (a nice increment; threads can only lower their priority)",
-              frontend_nice);
+              background_nice);
   CheckOption(min_shared_landmarks >= 1, "online.min_shared_landmarks", "must be >= 1",
               min_shared_landmarks);
 }
@@ -26,7 +26,7 @@ void OnlineOptions::Load(OptionsReader& r) {
   r.Read("window_queue", &window_queue);
   r.Read("realtime", &realtime);
   r.Read("sequential", &sequential);
-  r.Read("frontend_nice", &frontend_nice);
+  r.Read("background_nice", &background_nice);
   r.Read("min_shared_landmarks", &min_shared_landmarks);
   r.Read("forget_observations", &forget_observations);
   r.Finish();

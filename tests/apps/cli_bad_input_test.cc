@@ -270,8 +270,8 @@ TEST_F(CliConfig, OutOfRangeValue) {
 }
 
 TEST_F(CliConfig, NiceIncrementOutsideTheKernelsRange) {
-  ExpectRejected(RunWithConfig("online:\n  frontend_nice: 20\n"), kExitConfigError,
-                 config().string() + ": online.frontend_nice: must be in [0, 19]");
+  ExpectRejected(RunWithConfig("online:\n  background_nice: 20\n"), kExitConfigError,
+                 config().string() + ": online.background_nice: must be in [0, 19]");
 }
 
 TEST_F(CliConfig, NotYaml) {
