@@ -86,8 +86,7 @@ FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
   if (!enabled() || !threaded) return;
   queue_ = std::make_unique<BoundedQueue<Job>>(2);
   writer_ = std::thread([this, writer_nice] {
-    if (!LowerThisThreadPriority(writer_nice))
-      GetLogger("system")->warn("nice {}: the render writer keeps its priority", writer_nice);
+    LowerThisThreadPriorityOrWarn(writer_nice, "render writer");
     while (auto job = queue_->Pop()) Draw(*job);
   });
 }

@@ -434,13 +434,8 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   auto stopping = [&] { return abort.load() || StopRequested(stop); };
   double read_ms = 0, read_cpu_ms = 0;
 
-  auto lower_priority = [&](const char* stage) {
-    if (!LowerThisThreadPriority(online.background_nice))
-      GetLogger("system")->warn("online.background_nice {}: the {} thread keeps its priority",
-                                online.background_nice, stage);
-  };
   std::thread reader([&] {
-    lower_priority("reader");
+    LowerThisThreadPriorityOrWarn(online.background_nice, "reader");
     try {
       Pacer pacer(input.timestamps);
       for (int f = 0; f < n && !stopping(); ++f) {
@@ -456,7 +451,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
 
   ResourceSampler sampler(kResourceSampleEvery);
   std::thread frontend([&] {
-    lower_priority("frontend");
+    LowerThisThreadPriorityOrWarn(online.background_nice, "frontend");
     WindowScheduler windows(online);
     try {
       bool backend_gone = false;

@@ -6,6 +6,8 @@
 
 #include <cerrno>
 
+#include "core/logging.h"
+
 namespace cslam {
 namespace {
 
@@ -27,6 +29,11 @@ bool LowerThisThreadPriority(int increment) {
   if (errno != 0) return false;
   const int target = now + increment > 19 ? 19 : now + increment;
   return setpriority(PRIO_PROCESS, ThisTid(), target) == 0;
+}
+
+void LowerThisThreadPriorityOrWarn(int increment, const char* thread) {
+  if (!LowerThisThreadPriority(increment))
+    GetLogger("system")->warn("nice +{}: the {} thread keeps its priority", increment, thread);
 }
 
 }  // namespace cslam

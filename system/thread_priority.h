@@ -9,6 +9,9 @@ namespace cslam {
 /// refuses; the caller logs and goes on, as the run is correct at any priority.
 bool LowerThisThreadPriority(int increment);
 
+/// LowerThisThreadPriority, with a warning naming `thread` in the log where it is refused.
+void LowerThisThreadPriorityOrWarn(int increment, const char* thread);
+
 /// The calling thread's nice value (for tests and the log).
 int ThisThreadNice();
 
