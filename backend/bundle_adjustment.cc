@@ -106,6 +106,10 @@ void BundleAdjustmentOptions::Check() const {
               min_observations_per_pose);
   CheckOption(sparse_schur_min_poses >= 0, "sparse_schur_min_poses", "must be >= 0",
               sparse_schur_min_poses);
+  CheckOption(std::isfinite(far_depth_baselines) && far_depth_baselines >= 0, "far_depth_baselines",
+              "must be >= 0 baselines (0 = off)", far_depth_baselines);
+  CheckOption(std::isfinite(far_disparity_sigma_px) && far_disparity_sigma_px > 0,
+              "far_disparity_sigma_px", "must be > 0 px", far_disparity_sigma_px);
 }
 
 void BundleAdjustmentOptions::Load(OptionsReader& reader) {
@@ -122,6 +126,8 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("num_threads", &num_threads);
   reader.Read("min_observations_per_pose", &min_observations_per_pose);
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
+  reader.Read("far_depth_baselines", &far_depth_baselines);
+  reader.Read("far_disparity_sigma_px", &far_disparity_sigma_px);
   reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
   reader.Read("analytic_jacobians", &analytic_jacobians);
   reader.Read("dense_schur_smaller_side", &dense_schur_smaller_side);
@@ -628,12 +634,23 @@ class Adjuster {
     return true;
   }
 
+  /// `obs` with its right column's variance raised when it is a far point
+  /// (BundleAdjustmentOptions::far_depth_baselines); a copy either way.
+  StereoObservation WithFarDisparityVariance(const StereoObservation& obs) const {
+    StereoObservation out = obs;
+    if (options_.far_depth_baselines > 0 &&
+        (obs.x(0) - obs.x(2)) * options_.far_depth_baselines < camera_.fx)
+      out.cov(2, 2) += options_.far_disparity_sigma_px * options_.far_disparity_sigma_px;
+    return out;
+  }
+
   void AddStatic(Solve* solve, ObservationCount* counts) {
     for (int i = 0; i < static_cast<int>(points_.size()); ++i) {
       if (est_.landmark_cluster[i] != 0 || !Adjusted(i) || OnlyHeldCamerasSee(i)) continue;
       for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
         PoseBlock* pose = &cam_from_world_[obs.frame - est_.range.begin];
-        if (solve->AddObservation(obs, pose, points_[i].data())) ++(*counts)[pose];
+        if (solve->AddObservation(WithFarDisparityVariance(obs), pose, points_[i].data()))
+          ++(*counts)[pose];
       }
     }
   }

@@ -97,6 +97,18 @@ struct BundleAdjustmentOptions {
   /// labellings — accuracy 0.948 → 0.910 (seed 1), 8 → 6 objects (seed 2) — so off by
   /// default; docs/benchmarks.md, "Native profile solver"].
   bool native_sparse_solver = false;
+  /// [ours; ORB-SLAM's close/far split] Static landmarks seen farther than this many stereo
+  /// baselines (disparity below fx / far_depth_baselines) have the variance of their right
+  /// column raised by far_disparity_sigma_px², so the camera's translation takes its scale
+  /// from near points and far ones constrain it like monocular points. Why: a rectified pair
+  /// carries a constant disparity offset its calibration does not state (KITTI clip_a:
+  /// ~0.13 px, docs/frontend.md), which stretches a point's depth by offset / disparity — 1 %
+  /// at 13 px. 0 = off (the default: exact calibrations, as in rendered and generated
+  /// sequences, lose scale information by it); configs/kitti_*.yaml set 35, ORB-SLAM's
+  /// ThDepth for KITTI. Moving clusters keep every disparity: their depth is all they have.
+  double far_depth_baselines = 0.0;
+  /// Standard deviation added to a far static observation's right column, px, > 0.
+  double far_disparity_sigma_px = 10.0;
   /// Not from YAML: runs the decoupled scheme's solves (each moving cluster, the static
   /// world) side by side, and EstimateMotions' shape initialisations; null: one after another.
   /// The result is the same either way. Set by system/ (pipeline option `backend_threads`).

@@ -8,8 +8,11 @@
 #include <limits>
 #include <vector>
 
+#include "backend/disparity_offset.h"
+#include "backend/motion_estimation.h"
 #include "core/errors.h"
 #include "tests/backend/synthetic_bodies.h"
+#include "tests/backend/test_scene.h"
 #include "tests/support/matchers.h"
 
 namespace cslam {
@@ -283,6 +286,51 @@ TEST(BundleAdjustment, SolverChoicesReachTheReferenceSolution) {
   }
 }
 
+// A street seen by the outdoor camera (fx 640, baseline 0.5 m) driving 1 m a frame: static
+// points 4–120 m ahead, disparities from ~3 px to 80 px. `shift_px` is added to every right
+// column (the disparity shrinks by it), as an unstated rectification offset would.
+testing::TestScene OffsetStreet(double shift_px) {
+  const testing::TestBody street{
+      testing::RandomPoints(800, {-15, -3, 4}, {15, 3, 120}, 41),
+      [](int) { return Pose::Identity(); }};
+  const testing::TestScene s = testing::MakeScene(
+      testing::SyntheticCamera(true), {street}, 25,
+      [](int t) { return testing::YawPose(0.01 * t, Eigen::Vector3d(0.1 * t, 0.0, 1.0 * t)); },
+      0.3, 0.3, 42);
+  testing::TestScene out = s;
+  out.table = CorrectDisparities(s.table, -shift_px);
+  return out;
+}
+
+// |estimated / true distance from the first to the last camera − 1|.
+double ScaleError(const testing::TestScene& s, double far_depth_baselines) {
+  MotionEstimationOptions o;
+  o.bundle_adjustment.far_depth_baselines = far_depth_baselines;
+  const std::vector<int> labels(s.truth.size(), 0);
+  const MotionEstimate est =
+      EstimateMotions(s.table, s.camera, {0, s.table.num_frames()}, labels, o);
+  const double truth =
+      (s.world_from_cam.back().translation() - s.world_from_cam.front().translation()).norm();
+  const double estimated =
+      (est.world_from_cam.back().translation() - est.world_from_cam.front().translation()).norm();
+  return std::abs(estimated / truth - 1.0);
+}
+
+TEST(BundleAdjustment, FarPointsWithoutDisparityKeepAnOffsetFromScalingTheCamera) {
+  const testing::TestScene shifted = OffsetStreet(0.3);
+  const double all = ScaleError(shifted, 0.0);
+  const double near_only = ScaleError(shifted, 35.0);
+  const double clean = ScaleError(OffsetStreet(0.0), 35.0);
+  std::printf("0.3 px offset: scale error %.4f with every disparity, %.4f with far points' "
+              "disparities down-weighted; no offset, down-weighted: %.4f\n",
+              all, near_only, clean);
+  // An offset δ stretches depths by δ / d: the far points pull the scale most.
+  EXPECT_GT(all, 0.01);
+  EXPECT_LT(near_only, 0.6 * all);
+  // Without an offset the near points alone still carry the scale.
+  EXPECT_LT(clean, 0.005);
+}
+
 TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   EXPECT_EQ(ParseRobustKernel("dcs", "k"), RobustKernel::kDcs);
   EXPECT_EQ(ParseBaCoupling(ToString(BaCoupling::kSemiCoupled), "k"), BaCoupling::kSemiCoupled);
@@ -309,6 +357,19 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   EXPECT_EQ(o2.sparse_library, SparseLibrary::kEigen);
   o.num_threads = 0;
   EXPECT_THROW(o.Check(), ConfigError);
+  auto reader3 = OptionsReader::FromString(
+      "far_depth_baselines: 35\nfar_disparity_sigma_px: 5\n", "t");
+  BundleAdjustmentOptions o3;
+  o3.Load(reader3);
+  reader3.Finish();
+  EXPECT_EQ(o3.far_depth_baselines, 35.0);
+  EXPECT_EQ(o3.far_disparity_sigma_px, 5.0);
+  EXPECT_NO_THROW(o3.Check());
+  o3.far_depth_baselines = -1;
+  EXPECT_THROW(o3.Check(), ConfigError);
+  o3.far_depth_baselines = 35;
+  o3.far_disparity_sigma_px = 0;
+  EXPECT_THROW(o3.Check(), ConfigError);
 }
 
 }  // namespace
