@@ -97,9 +97,9 @@ struct BundleAdjustmentOptions {
   /// labellings — accuracy 0.948 → 0.910 (seed 1), 8 → 6 objects (seed 2) — so off by
   /// default; docs/benchmarks.md, "Native profile solver"].
   bool native_sparse_solver = false;
-  /// [ours; ORB-SLAM's close/far split] Static landmarks seen farther than this many stereo
-  /// baselines (disparity below fx / far_depth_baselines) have the variance of their right
-  /// column raised by far_disparity_sigma_px², so the camera's translation takes its scale
+  /// [ours; ORB-SLAM's close/far split] Static landmarks farther from a camera than this many
+  /// stereo baselines (at their current estimate) have the variance of that observation's
+  /// right column raised by far_disparity_sigma_px², so the camera's translation takes its scale
   /// from near points and far ones constrain it like monocular points. Why: a rectified pair
   /// carries a constant disparity offset its calibration does not state (KITTI clip_a:
   /// ~0.13 px, docs/frontend.md), which stretches a point's depth by offset / disparity — 1 %
