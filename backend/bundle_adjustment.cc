@@ -634,21 +634,16 @@ class Adjuster {
     return true;
   }
 
-  /// `obs` with its right column's variance raised when the landmark, at its current
-  /// estimate, is farther from that camera than far_depth_baselines. The current depth, not
-  /// the observation's own disparity, decides: choosing by the noisy measurement would keep
-  /// exactly the observations whose noise enlarged the disparity, a bias towards near depths
-  /// (measured: the generated outdoor sequences' scale 0.2 % short).
-  StereoObservation WithFarDisparityVariance(const StereoObservation& obs,
-                                             const PoseBlock& cam_from_world,
-                                             const double* point) const {
-    StereoObservation out = obs;
-    if (options_.far_depth_baselines <= 0) return out;
+  /// Whether `point`, at its current estimate, is farther from the camera than
+  /// far_depth_baselines (BundleAdjustmentOptions). The current depth, not the observation's
+  /// own disparity, decides: choosing by the noisy measurement would keep exactly the
+  /// observations whose noise enlarged the disparity, a bias towards near depths (measured:
+  /// the generated outdoor sequences' scale 0.2 % short).
+  bool FarFrom(const PoseBlock& cam_from_world, const double* point) const {
+    if (options_.far_depth_baselines <= 0) return false;
     const Eigen::Map<const Eigen::Quaterniond> q(cam_from_world.data());
     const double depth = (q * Eigen::Map<const Eigen::Vector3d>(point)).z() + cam_from_world.x[6];
-    if (depth > options_.far_depth_baselines * camera_.baseline)
-      out.cov(2, 2) += options_.far_disparity_sigma_px * options_.far_disparity_sigma_px;
-    return out;
+    return depth > options_.far_depth_baselines * camera_.baseline;
   }
 
   void AddStatic(Solve* solve, ObservationCount* counts) {
@@ -656,9 +651,14 @@ class Adjuster {
       if (est_.landmark_cluster[i] != 0 || !Adjusted(i) || OnlyHeldCamerasSee(i)) continue;
       for (const StereoObservation& obs : table_.ObservationsOf(i, est_.range)) {
         PoseBlock* pose = &cam_from_world_[obs.frame - est_.range.begin];
-        if (solve->AddObservation(WithFarDisparityVariance(obs, *pose, points_[i].data()), pose,
-                                  points_[i].data()))
-          ++(*counts)[pose];
+        const StereoObservation* use = &obs;
+        StereoObservation far;
+        if (FarFrom(*pose, points_[i].data())) {
+          far = obs;
+          far.cov(2, 2) += options_.far_disparity_sigma_px * options_.far_disparity_sigma_px;
+          use = &far;
+        }
+        if (solve->AddObservation(*use, pose, points_[i].data())) ++(*counts)[pose];
       }
     }
   }

@@ -293,13 +293,12 @@ testing::TestScene OffsetStreet(double shift_px) {
   const testing::TestBody street{
       testing::RandomPoints(800, {-15, -3, 4}, {15, 3, 120}, 41),
       [](int) { return Pose::Identity(); }};
-  const testing::TestScene s = testing::MakeScene(
+  testing::TestScene s = testing::MakeScene(
       testing::SyntheticCamera(true), {street}, 25,
       [](int t) { return testing::YawPose(0.01 * t, Eigen::Vector3d(0.1 * t, 0.0, 1.0 * t)); },
       0.3, 0.3, 42);
-  testing::TestScene out = s;
-  out.table = CorrectDisparities(s.table, -shift_px);
-  return out;
+  s.table = CorrectDisparities(s.table, -shift_px);
+  return s;
 }
 
 // |estimated / true distance from the first to the last camera − 1|.
