@@ -1,6 +1,7 @@
 #include "system/trajectory_plot.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -27,6 +28,12 @@ constexpr int kSupersampling = 2;         // GL renders this many times larger, 
 constexpr float kLineWidthPx = 2.0f;
 constexpr float kStartMarkerPx = 8.0f;
 constexpr int kDashPx = 10;
+constexpr int kLegendMargin = 12;  // px between the legend and the plot's frame
+// A legend column beside the plot may cost at most this share of the drawing's scale.
+constexpr double kMinLegendColumnScale = 0.75;
+constexpr int kScaleBarPadding = 10;  // px of white box left and right of the bar
+constexpr int kScaleBarHeight = 40;   // px of white box, label included
+constexpr int kScaleBarMargin = 10;   // px between the box and the plot's frame
 const cv::Vec3b kWhite{255, 255, 255};
 const cv::Vec3b kGridRgb{228, 228, 228};
 const cv::Vec3b kAxisRgb{185, 185, 185};
@@ -46,15 +53,14 @@ std::string FormatMetres(double value) {
   return text;
 }
 
-}  // namespace
-
-TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajectories, int width,
-                                   int height) {
+/// The plot area's layout for a given plot rectangle (no legend yet).
+TopViewLayout FitPlot(const std::vector<RenderTrajectory>& trajectories, int left, int top,
+                      int right, int bottom) {
   TopViewLayout layout;
-  layout.plot_left = kMarginLeft;
-  layout.plot_top = kMarginTop;
-  layout.plot_right = std::max(kMarginLeft + 1, width - kMarginRight);
-  layout.plot_bottom = std::max(kMarginTop + 1, height - kMarginBottom);
+  layout.plot_left = left;
+  layout.plot_top = top;
+  layout.plot_right = std::max(left + 1, right);
+  layout.plot_bottom = std::max(top + 1, bottom);
 
   double min_x = std::numeric_limits<double>::infinity(), max_x = -min_x;
   double min_z = min_x, max_z = -min_x;
@@ -78,6 +84,125 @@ TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajecto
   layout.origin_v = 0.5 * (layout.plot_top + layout.plot_bottom) + layout.scale_px_per_m * centre_z;
   layout.grid_step_m =
       NiceStep(std::max(plot_w, plot_h) / layout.scale_px_per_m / kTargetGridLines);
+  return layout;
+}
+
+cv::Rect PlotRect(const TopViewLayout& layout) {
+  return {layout.plot_left, layout.plot_top, layout.plot_right - layout.plot_left,
+          layout.plot_bottom - layout.plot_top};
+}
+
+/// The four places for a box of `size` in the plot's corners, `margin` px inside its frame, in
+/// the order of preference: top left, top right, bottom left, bottom right.
+std::array<cv::Rect, 4> CornerBoxes(const cv::Rect& plot, cv::Size size, int margin) {
+  const int left = plot.x + margin, right = plot.br().x - margin - size.width;
+  const int top = plot.y + margin, bottom = plot.br().y - margin - size.height;
+  return {cv::Rect({left, top}, size), cv::Rect({right, top}, size),
+          cv::Rect({left, bottom}, size), cv::Rect({right, bottom}, size)};
+}
+
+/// The legend's rows: every labelled trajectory, camera first. An online map can hold dozens
+/// of clusters, so past `max_height` px the last rows give way to a count of the rest.
+std::vector<LegendEntry> LegendEntries(const std::vector<RenderTrajectory>& trajectories,
+                                       int max_height) {
+  std::vector<LegendEntry> entries;
+  for (const auto& t : trajectories) {
+    if (t.label.empty()) continue;
+    entries.push_back({t.label, TrajectoryColor(t.cluster),
+                       t.dashed ? LegendMarker::kDashedLine : LegendMarker::kLine});
+  }
+  int left_out = 0;
+  while (entries.size() > 2 && LegendSize(entries).height > max_height) {
+    entries.pop_back();
+    if (left_out++ == 0) entries.pop_back(), ++left_out;  // room for the summary line
+  }
+  if (left_out > 0)
+    entries.push_back({"+ " + std::to_string(left_out) + " more clusters", cv::Vec3b(150, 150, 150),
+                       LegendMarker::kLine});
+  return entries;
+}
+
+/// How many points, sampled every pixel along the drawn trajectories (lines and start markers,
+/// widened by their half width), fall inside `box`.
+int TrajectoryPixelsIn(const std::vector<RenderTrajectory>& trajectories,
+                       const TopViewLayout& layout, const cv::Rect& box) {
+  const double pad = 0.5 * kStartMarkerPx + 1.0;
+  const cv::Rect2d area(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad);
+  const auto inside = [&](const Eigen::Vector2d& px) { return area.contains({px.x(), px.y()}); };
+  int count = 0;
+  for (const auto& t : trajectories) {
+    bool first = true;
+    Eigen::Vector2d last = Eigen::Vector2d::Zero();
+    for (const auto& p : t.positions) {
+      if (!p.allFinite()) continue;
+      const Eigen::Vector2d px = layout.ToPixel(p);
+      if (first) {
+        count += inside(px);
+      } else {
+        const int steps = std::max(1, static_cast<int>(std::ceil((px - last).norm())));
+        for (int i = 1; i <= steps; ++i) count += inside(last + (px - last) * (double(i) / steps));
+      }
+      last = px;
+      first = false;
+    }
+  }
+  return count;
+}
+
+/// The plot and the legend of ComputeTopViewLayout.
+TopViewLayout PlaceLegend(const std::vector<RenderTrajectory>& trajectories, int width,
+                          int height) {
+  const int right = width - kMarginRight, bottom = height - kMarginBottom;
+  TopViewLayout layout = FitPlot(trajectories, kMarginLeft, kMarginTop, right, bottom);
+  const cv::Rect plot = PlotRect(layout);
+  const std::vector<LegendEntry> entries = LegendEntries(trajectories, plot.height - 24);
+  if (entries.empty()) return layout;
+  const cv::Size size = LegendSize(entries);
+
+  // A corner of the plot that no trajectory crosses.
+  int best_count = std::numeric_limits<int>::max();
+  for (const cv::Rect& box : CornerBoxes(plot, size, kLegendMargin)) {
+    const int count = TrajectoryPixelsIn(trajectories, layout, box);
+    if (count < best_count) {
+      best_count = count;
+      layout.legend = box;
+    }
+  }
+  if (best_count == 0) return layout;
+
+  // Every corner would hide data (a long drive with many clusters): the legend takes a column
+  // beside the plot, unless the narrower plot would shrink the drawing by more than a quarter.
+  const int narrowed_right = right - size.width - kLegendMargin;
+  const TopViewLayout narrowed =
+      FitPlot(trajectories, kMarginLeft, kMarginTop, narrowed_right, bottom);
+  if (narrowed_right - kMarginLeft < 100 ||
+      narrowed.scale_px_per_m < kMinLegendColumnScale * layout.scale_px_per_m)
+    return layout;
+  layout = narrowed;
+  layout.legend = cv::Rect(cv::Point(narrowed_right + kLegendMargin, kMarginTop), size);
+  return layout;
+}
+
+}  // namespace
+
+TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajectories, int width,
+                                   int height) {
+  TopViewLayout layout = PlaceLegend(trajectories, width, height);
+  // The scale bar (one grid step) goes to the corner with the fewest trajectory pixels, off
+  // the legend, bottom right when it is free.
+  const int bar_px = static_cast<int>(std::lround(layout.grid_step_m * layout.scale_px_per_m));
+  const cv::Rect plot = PlotRect(layout);
+  const auto boxes = CornerBoxes(plot, {bar_px + 2 * kScaleBarPadding, kScaleBarHeight},
+                                 kScaleBarMargin);
+  long best_count = std::numeric_limits<long>::max();
+  for (int i : {3, 2, 1, 0}) {
+    const long count = TrajectoryPixelsIn(trajectories, layout, boxes[i]) +
+                       1000L * (boxes[i] & layout.legend).area();
+    if (count < best_count) {
+      best_count = count;
+      layout.scale_bar = boxes[i] & plot;
+    }
+  }
   return layout;
 }
 
@@ -137,8 +262,7 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
   cv::resize(big, image, cv::Size(width, height), 0, 0, cv::INTER_AREA);
 
   // Frame, tick labels and axis titles.
-  const cv::Rect plot(layout.plot_left, layout.plot_top, layout.plot_right - layout.plot_left,
-                      layout.plot_bottom - layout.plot_top);
+  const cv::Rect plot = PlotRect(layout);
   for (double x = std::ceil(x_lo / step) * step; x <= x_hi; x += step) {
     const int u = static_cast<int>(std::lround(layout.ToPixel({x, 0, 0}).x()));
     PutLabel(image, FormatMetres(x), {u, layout.plot_bottom + 20}, TextAlign::kCentre);
@@ -150,15 +274,16 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
   PutLabel(image, "x [m]", {(layout.plot_left + layout.plot_right) / 2, layout.plot_bottom + 45},
            TextAlign::kCentre, 0.55);
   PutLabel(image, "z [m]", {layout.plot_left - 8, layout.plot_top - 12}, TextAlign::kRight, 0.55);
+  // The title spans the plot and a legend column beside it.
+  const int title_right = std::max(layout.plot_right, layout.legend.br().x);
   PutLabel(image, "Trajectories, top view (x-z plane of the first camera frame)",
-           {(layout.plot_left + layout.plot_right) / 2, 30}, TextAlign::kCentre, 0.65);
+           {(layout.plot_left + title_right) / 2, 30}, TextAlign::kCentre, 0.65);
 
-  // Scale bar: one grid step, bottom right of the plot.
-  const int bar_px = static_cast<int>(std::lround(step * layout.scale_px_per_m));
-  const cv::Point bar_right(layout.plot_right - 20, layout.plot_bottom - 20);
-  const cv::Point bar_left(bar_right.x - bar_px, bar_right.y);
-  const cv::Rect bar_box(bar_left.x - 10, bar_left.y - 30, bar_px + 20, 40);
-  cv::rectangle(image, bar_box & plot, cv::Scalar(255, 255, 255), cv::FILLED);
+  // Scale bar: one grid step.
+  const cv::Rect& bar_box = layout.scale_bar;
+  const cv::Point bar_left(bar_box.x + kScaleBarPadding, bar_box.y + kScaleBarHeight - 10);
+  const cv::Point bar_right(bar_box.br().x - kScaleBarPadding, bar_left.y);
+  cv::rectangle(image, bar_box, cv::Scalar(255, 255, 255), cv::FILLED);
   cv::line(image, bar_left, bar_right, cv::Scalar(40, 40, 40), 3, cv::LINE_AA);
   cv::line(image, bar_left + cv::Point(0, -6), bar_left + cv::Point(0, 6), cv::Scalar(40, 40, 40),
            2, cv::LINE_AA);
@@ -168,27 +293,8 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
            TextAlign::kCentre);
   cv::rectangle(image, plot, cv::Scalar(kFrameRgb[2], kFrameRgb[1], kFrameRgb[0]), 1);
 
-  // Legend in the emptiest corner of the plot.
-  std::vector<LegendEntry> entries;
-  for (const auto& t : trajectories) {
-    if (t.label.empty()) continue;
-    entries.push_back({t.label, TrajectoryColor(t.cluster),
-                       t.dashed ? LegendMarker::kDashedLine : LegendMarker::kLine});
-  }
-  // An online map can hold dozens of clusters: keep the legend inside the plot, naming the
-  // first entries (camera first) and counting the rest.
-  int left_out = 0;
-  while (entries.size() > 2 && LegendSize(entries).height > plot.height - 24) {
-    entries.pop_back();
-    if (left_out++ == 0) entries.pop_back(), ++left_out;  // room for the summary line
-  }
-  if (left_out > 0)
-    entries.push_back({"+ " + std::to_string(left_out) + " more clusters", cv::Vec3b(150, 150, 150),
-                       LegendMarker::kLine});
-  if (!entries.empty()) {
-    const cv::Size legend_size = LegendSize(entries);
-    DrawLegend(image, entries, EmptiestCorner(image, plot, legend_size, 12, kWhite));
-  }
+  if (!layout.legend.empty())
+    DrawLegend(image, LegendEntries(trajectories, plot.height - 24), layout.legend.tl());
   return image;
 }
 

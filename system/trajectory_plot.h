@@ -17,6 +17,11 @@ struct TopViewLayout {
   double origin_u = 0.0, origin_v = 0.0;  ///< pixel of the world origin
   int plot_left = 0, plot_top = 0, plot_right = 0, plot_bottom = 0;  ///< plot area, px
   double grid_step_m = 1.0;  ///< spacing of the labelled grid lines
+  /// The legend box: in a plot corner that no trajectory crosses, else in a column beside the
+  /// plot (which then narrows). Empty when no trajectory has a label.
+  cv::Rect legend;
+  /// The scale bar's white box: in the plot corner with the fewest trajectory pixels.
+  cv::Rect scale_bar;
 
   Eigen::Vector2d ToPixel(const Eigen::Vector3d& p_world) const {
     return {origin_u + scale_px_per_m * p_world.x(), origin_v - scale_px_per_m * p_world.z()};
@@ -24,7 +29,7 @@ struct TopViewLayout {
 };
 
 /// The layout RenderTrajectoryTopView uses: every position fits in the plot area with equal
-/// scales on both axes, centred, with a small margin.
+/// scales on both axes, centred, with a small margin, and the legend covers no trajectory.
 TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajectories, int width,
                                    int height);
 

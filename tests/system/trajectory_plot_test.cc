@@ -105,6 +105,62 @@ TEST(TrajectoryPlot, LegendOfSixtyClustersStaysInsideThePlot) {
   EXPECT_GT(testing::CountColour(image, BgrForCluster(1), 20), 20);
 }
 
+/// A drive like KITTI raw 0005's: a long narrow camera path with short cluster paths beside
+/// it from start to end, and legend labels wide enough that every plot corner holds data.
+std::vector<RenderTrajectory> CrowdedDrive() {
+  std::vector<RenderTrajectory> scene{{"camera", {}, -1, false}};
+  for (int i = 0; i <= 100; ++i) scene[0].positions.emplace_back(0.0, 0.0, 1.0 * i);
+  for (int c = 1; c <= 12; ++c) {
+    RenderTrajectory t{"cluster " + std::to_string(c) + ": a label as wide as the small-cluster note of a long drive",
+                       {},
+                       c, false};
+    for (int i = 0; i <= 4; ++i) t.positions.emplace_back(-20.0, 0.0, 8.0 * c - 4.0 + i);
+    scene.push_back(t);
+  }
+  return scene;
+}
+
+TEST(TrajectoryPlot, LegendMovesBesideThePlotWhenEveryCornerHoldsData) {
+  // The legend used to go to the least covered corner even when that hid part of the camera
+  // path.
+  const auto scene = CrowdedDrive();
+  const cv::Mat image = RenderTrajectoryTopView(scene);
+  testing::MaybeSave(image, "trajectory_crowded.png");
+  const TopViewLayout layout = ComputeTopViewLayout(scene, 1200, 900);
+  const cv::Rect plot(layout.plot_left, layout.plot_top, layout.plot_right - layout.plot_left,
+                      layout.plot_bottom - layout.plot_top);
+  EXPECT_TRUE((layout.legend & plot).empty()) << layout.legend;
+  EXPECT_TRUE((layout.legend & cv::Rect(0, 0, 1200, 900)) == layout.legend) << layout.legend;
+  // Every position is drawn in its own colour: nothing lies under the legend.
+  for (const auto& p : scene[0].positions)
+    EXPECT_TRUE(ColourNear(image, layout.ToPixel(p), {0, 0, 0}, 1, 70)) << p.transpose();
+  for (int c = 1; c <= 12; ++c)
+    for (const auto& p : scene[c].positions)
+      EXPECT_TRUE(ColourNear(image, layout.ToPixel(p), BgrForCluster(c), 1, 60))
+          << "cluster " << c << " at " << p.transpose();
+  // The legend column costs the drawing no scale: the path's height still sets it.
+  auto unlabelled = scene;
+  for (auto& t : unlabelled) t.label.clear();
+  EXPECT_NEAR(layout.scale_px_per_m, ComputeTopViewLayout(unlabelled, 1200, 900).scale_px_per_m,
+              1e-9);
+}
+
+TEST(TrajectoryPlot, WideDrawingKeepsItsScaleWithTheLegendInsideThePlot) {
+  // Turned sideways the same drive fills the plot's width; a legend column would shrink it
+  // by more than a quarter, so the legend stays in the least covered corner.
+  auto scene = CrowdedDrive();
+  for (auto& t : scene)
+    for (auto& p : t.positions) p = Eigen::Vector3d(p.z(), 0.0, -p.x());
+  const TopViewLayout layout = ComputeTopViewLayout(scene, 1200, 900);
+  const cv::Rect plot(layout.plot_left, layout.plot_top, layout.plot_right - layout.plot_left,
+                      layout.plot_bottom - layout.plot_top);
+  EXPECT_TRUE((layout.legend & plot) == layout.legend) << layout.legend;
+  auto unlabelled = scene;
+  for (auto& t : unlabelled) t.label.clear();
+  EXPECT_NEAR(layout.scale_px_per_m, ComputeTopViewLayout(unlabelled, 1200, 900).scale_px_per_m,
+              1e-9);
+}
+
 TEST(TrajectoryPlot, IsDeterministicAndCanRunOnTwoThreadsAtOnce) {
   const auto scene = Scene();
   const cv::Mat reference = RenderTrajectoryTopView(scene, 500, 400);
