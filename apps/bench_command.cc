@@ -215,7 +215,7 @@ Command AddBenchCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--methods", args->options.methods,
                   "comma-separated: full-ba, pdcs, clusterslam-no-u, clusterslam-no-i, "
-                  "clusterslam (default: all)")
+                  "clusterslam, true-labels (default: the paper's five, all but true-labels)")
       ->delimiter(',');
   sub->add_option("--noise", args->noise_px, "generator pixel noise, px (default: the generator's)")
       ->check(CLI::Range(0.0, 3.0));

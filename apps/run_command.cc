@@ -30,6 +30,7 @@ int Run(const RunArgs& args) {
   auto log = GetLogger("app");
   RunInput input = OpenRunInput(args.input, args.flags.InputOptionsFor());
   PipelineOptions options = args.flags.Resolve(input);
+  CheckMethodFitsInput(options.method, input);
   const std::string out = args.out.empty() ? "out/" + input.name : args.out;
   options.out_dir = out;
   // The output folder is created only once the input and the configuration are known good.

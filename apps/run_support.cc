@@ -36,8 +36,10 @@ void RunFlags::Register(CLI::App* sub) {
   sub->add_option("--config", config, "YAML configuration (see configs/)")->check(CLI::ExistingFile);
   sub->add_option("--preset", preset, "backend parameters: indoor or outdoor")
       ->check(CLI::IsMember({"indoor", "outdoor"}));
-  sub->add_option("--method", method, "backend: clusterslam, full-ba or pdcs")
-      ->check(CLI::IsMember({"clusterslam", "full-ba", "pdcs"}));
+  sub->add_option("--method", method,
+                  "backend: clusterslam, full-ba, pdcs, or true-labels (the reference with the "
+                  "generator's labels; synthetic sequences without images)")
+      ->check(CLI::IsMember({"clusterslam", "full-ba", "pdcs", "true-labels"}));
   sub->add_option("--ablation", ablation, "none, no-u, no-i or p2p-icp")
       ->check(CLI::IsMember({"none", "no-u", "no-i", "p2p-icp"}));
   sub->add_option("--mode", mode, "online (sliding windows, default) or batch (whole sequence)")

@@ -18,6 +18,7 @@ const std::vector<BenchMethod>& BenchMethods() {
       {"clusterslam-no-u", "Ours w/o U", "clusterslam", "no-u"},
       {"clusterslam-no-i", "Ours w/o I", "clusterslam", "no-i"},
       {"clusterslam", "Ours", "clusterslam", "none"},
+      {"true-labels", "True labels", "true-labels", "none", /*in_paper=*/false},
   };
   return kMethods;
 }
@@ -46,7 +47,8 @@ void BenchOptions::Check() const {
 std::vector<BenchMethod> BenchOptions::SelectedMethods() const {
   std::vector<BenchMethod> out;
   for (const BenchMethod& m : BenchMethods())
-    if (methods.empty() || std::find(methods.begin(), methods.end(), m.key) != methods.end())
+    if (methods.empty() ? m.in_paper
+                        : std::find(methods.begin(), methods.end(), m.key) != methods.end())
       out.push_back(m);
   return out;
 }

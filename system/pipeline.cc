@@ -9,6 +9,7 @@
 #include "backend/clusterslam.h"
 #include "backend/covariance_floor.h"
 #include "backend/full_ba.h"
+#include "backend/given_labels.h"
 #include "backend/progressive_dcs.h"
 #include "core/errors.h"
 #include "core/logging.h"
@@ -570,7 +571,31 @@ void LogStageTimes(const PipelineResult& out) {
             integrate_cpu_sum / windows, render_sum / windows, out.total_s, out.total_s > 0 ? frames / out.total_s : 0.0);
 }
 
+/// The backend of method "true-labels": every window estimated with the generator's object
+/// of each landmark. Only replayed synthetic tracklets carry it (a frontend's landmarks have
+/// no object id).
+BackendFunction TrueLabelsBackend(const RunInput& input) {
+  CheckMethodFitsInput("true-labels", input);
+  const std::vector<int> labels = input.synthetic->landmark_object;
+  return [labels](const TrackletTable& table, const StereoCamera& camera, FrameRange range,
+                  const PipelineOptions& options, const WindowPrior*) {
+    const std::optional<TrackletTable> floored =
+        FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
+    return RunGivenLabels(floored ? *floored : table, camera, range, labels,
+                          options.backend.Effective().motion);
+  };
+}
+
 }  // namespace
+
+void CheckMethodFitsInput(const std::string& method, const RunInput& input) {
+  if (method != "true-labels" || (input.synthetic && !input.has_images())) return;
+  throw ConfigError("method true-labels: needs a synthetic sequence replayed without images "
+                    "(its landmarks carry their object ids); " + input.path + " is " +
+                    (input.kind == "synthetic_images" ? "a synthetic sequence with images "
+                                                        "(run it with input.use_images: false)"
+                                                      : "a " + input.kind + " sequence"));
+}
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
                          const PipelineOptions& options, const WindowPrior* prior) {
@@ -582,6 +607,8 @@ BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera,
   const TrackletTable& t = floored ? *floored : table;
   if (options.method == "full-ba")
     return RunFullBa(t, camera, range, options.backend.Effective().motion);
+  if (options.method == "true-labels")  // RunPipeline binds the labels (TrueLabelsBackend)
+    throw ConfigError("method true-labels: the labels come with the input; run it through RunPipeline");
   return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
 }
 
@@ -595,13 +622,15 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   if (options.backend_threads > 1 && !ba.runner)
     ba.runner = std::make_shared<WorkerPool>(options.backend_threads);
   // The self-calibration wraps the backend call (system/disparity_offset_calibration.h).
-  DisparityOffsetCalibrator calibrator(options.calibration, backend ? backend : BackendFunction(RunBackend));
+  const BackendFunction chosen =
+      options.method == "true-labels" ? TrueLabelsBackend(input) : backend;
+  DisparityOffsetCalibrator calibrator(options.calibration, chosen ? chosen : BackendFunction(RunBackend));
   const BackendFunction calibrated = [&calibrator](const TrackletTable& t, const StereoCamera& c,
                                                    FrameRange r, const PipelineOptions& o,
                                                    const WindowPrior* prior) {
     return calibrator(t, c, r, o, prior);
   };
-  const BackendFunction& call = options.calibration.estimate_disparity_offset ? calibrated : backend;
+  const BackendFunction& call = options.calibration.estimate_disparity_offset ? calibrated : chosen;
   if (options.mode == "batch") {
     out = RunBatch(input, options, stop, progress, call);
   } else if (options.online.sequential) {

@@ -72,7 +72,7 @@ void CheckMember(const std::string& key, const std::string& value,
 
 void PipelineOptions::Check() const {
   CheckMember("preset", preset, {"indoor", "outdoor"});
-  CheckMember("method", method, {"clusterslam", "full-ba", "pdcs"});
+  CheckMember("method", method, {"clusterslam", "full-ba", "pdcs", "true-labels"});
   CheckMember("ablation", ablation, {"none", "no-u", "no-i", "p2p-icp"});
   CheckMember("mode", mode, {"online", "batch"});
   CheckOption(backend_threads >= 1, "backend_threads", "must be >= 1", backend_threads);

@@ -22,7 +22,9 @@ BenchEntry EntryWithAte(const std::string& preset, const std::string& method, do
 TEST(Bench, MethodsAreThePapersRowsInOrder) {
   std::vector<std::string> labels;
   for (const BenchMethod& m : BenchMethods()) labels.push_back(m.label);
-  EXPECT_EQ(labels, (std::vector<std::string>{"Full BA", "P. DCS", "Ours w/o U", "Ours w/o I", "Ours"}));
+  EXPECT_EQ(labels, (std::vector<std::string>{"Full BA", "P. DCS", "Ours w/o U", "Ours w/o I", "Ours",
+                                              "True labels"}));
+  EXPECT_FALSE(FindBenchMethod("true-labels").in_paper);
   EXPECT_EQ(FindBenchMethod("clusterslam-no-i").ablation, "no-i");
 }
 
@@ -46,6 +48,16 @@ TEST(Bench, UnknownMethodOrSuiteIsAConfigErrorNamingIt) {
   ASSERT_EQ(selected.size(), 2u);
   EXPECT_EQ(selected[0].key, "full-ba");
   EXPECT_EQ(selected[1].key, "clusterslam");
+  // Without --methods: the paper's five rows; the true-labels reference only when asked.
+  o.methods.clear();
+  const auto paper = o.SelectedMethods();
+  ASSERT_EQ(paper.size(), 5u);
+  EXPECT_EQ(paper.back().key, "clusterslam");
+  o.methods = {"true-labels", "clusterslam"};
+  EXPECT_NO_THROW(o.Check());
+  const auto with_reference = o.SelectedMethods();
+  ASSERT_EQ(with_reference.size(), 2u);
+  EXPECT_EQ(with_reference[1].key, "true-labels");
 }
 
 TEST(Bench, SuiteHasIndoorThenOutdoorSeeds) {

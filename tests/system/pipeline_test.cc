@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
 
+#include "core/errors.h"
 #include "system/clustering_metrics.h"
 #include "system/synthetic_scene.h"
 #include "tests/support/matchers.h"
@@ -150,6 +153,51 @@ double BatchAccuracy(const RunInput& in, const PipelineResult& r) {
     predicted.push_back(l < static_cast<int>(labels.size()) ? labels[l] : -1);
   }
   return ClusteringAccuracy(truth, predicted);
+}
+
+double CameraRms(const RunInput& in, const PipelineResult& r) {
+  double sum = 0.0;
+  for (int f = 0; f < r.map.num_frames(); ++f)
+    sum += ((*r.map.world_from_cam()[f]).translation() - (*in.gt_world_from_cam)[f].translation())
+               .squaredNorm();
+  return std::sqrt(sum / r.map.num_frames());
+}
+
+// The "true-labels" reference: the generator's labels, ClusterSLAM's estimation. It must keep
+// the labels it is given (accuracy 1) and, with the cars separated, beat Full BA's camera.
+TEST(Pipeline, TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa) {
+  const RunInput in = SmallSyntheticInput(1.0);
+  PipelineOptions o = OnlineOptionsFor(true);
+  o.mode = "batch";
+  o.method = "true-labels";
+  const PipelineResult truth = RunPipeline(in, o);
+  o.method = "full-ba";
+  const PipelineResult full = RunPipeline(in, o);
+  ASSERT_TRUE(truth.batch.has_value());
+  ASSERT_TRUE(full.batch.has_value());
+  EXPECT_EQ(truth.batch->method, "true-labels");
+  EXPECT_DOUBLE_EQ(BatchAccuracy(in, truth), 1.0);
+  const double rms = CameraRms(in, truth), rms_full = CameraRms(in, full);
+  std::printf("camera RMS: true labels %.4f m, full BA %.4f m\n", rms, rms_full);
+  EXPECT_LT(rms, 0.5 * rms_full);
+}
+
+TEST(Pipeline, TrueLabelsMethodNeedsReplayedSyntheticTracklets) {
+  RunInput in;
+  in.path = "/data/clip_a";
+  in.kind = "kitti_odometry";
+  PipelineOptions o;
+  o.method = "true-labels";
+  try {
+    RunPipeline(in, o);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("/data/clip_a is a kitti_odometry sequence"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(CheckMethodFitsInput("full-ba", in));
+  EXPECT_NO_THROW(CheckMethodFitsInput("true-labels", SmallSyntheticInput()));
 }
 
 // batch.warm_start (the default): the whole-sequence call starts from the online windows' map;
