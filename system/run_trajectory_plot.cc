@@ -61,7 +61,12 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
                    [](const auto& a, const auto& b) { return a.first > b.first; });
   for (const auto& [n, id] : order) {
     const Trajectory& c = outputs.clusters.at(id);
-    RenderTrajectory t{"cluster " + std::to_string(id), {}, id, false};
+    // The landmark count and frame span tell an object (hundreds of points, many frames)
+    // from a fragment at a glance; the palette repeats every ten clusters.
+    RenderTrajectory t{"cluster " + std::to_string(id) + " (" + std::to_string(n) +
+                           " points, frames " + std::to_string(c.frames.front()) + "-" +
+                           std::to_string(c.frames.back()) + ")",
+                       {}, id, false};
     const Eigen::Vector3d centroid =
         n > 0 ? Eigen::Vector3d(centroids.at(id).first / n) : Eigen::Vector3d::Zero();
     for (const Pose& pose : c.poses) t.positions.push_back(pose * centroid);
