@@ -17,6 +17,9 @@ class TaskRunner {
  public:
   virtual ~TaskRunner() = default;
   virtual void Run(int n, const std::function<void(int)>& task) const = 0;
+  /// CPU time, ms, that threads other than the callers' have spent on tasks so far (0 when
+  /// every task runs on the caller's thread): a caller's own thread CPU clock misses it.
+  virtual double HelperCpuMs() const { return 0.0; }
 };
 
 /// Calls `task` for every index in order on the calling thread, through `runner` when given.

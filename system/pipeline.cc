@@ -88,6 +88,8 @@ class BackendStage {
     stats.range = range;
     Timer timer;
     const double cpu_start = ThreadCpuMs();
+    const TaskRunner* workers = options_.backend.motion.bundle_adjustment.runner.get();
+    const double worker_cpu_start = workers ? workers->HelperCpuMs() : 0.0;
     BackendResult result;
     try {
       // Online ClusterSLAM windows start from what the map knows (the map is ours: this
@@ -109,6 +111,7 @@ class BackendStage {
     }
     stats.backend_ms = timer.ElapsedMs();
     stats.backend_cpu_ms = ThreadCpuMs() - cpu_start;
+    if (workers) stats.worker_cpu_ms = workers->HelperCpuMs() - worker_cpu_start;
     stats.warm_started = result.warm_started;
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
     const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
@@ -533,8 +536,8 @@ void LogStageTimes(const PipelineResult& out) {
     frontend_ms += f.total_ms;
     frontend_cpu_ms += f.cpu_total_ms;
   }
-  std::vector<double> backend_ms, backend_cpu_ms;
-  double backend_sum = 0, backend_cpu_sum = 0, prior_sum = 0, integrate_sum = 0,
+  std::vector<double> backend_ms, backend_cpu_ms, worker_cpu_ms;
+  double backend_sum = 0, backend_cpu_sum = 0, worker_cpu_sum = 0, prior_sum = 0, integrate_sum = 0,
          integrate_cpu_sum = 0, render_sum = 0;
   int warm = 0;
   for (const WindowStats& w : out.windows) {
@@ -543,6 +546,8 @@ void LogStageTimes(const PipelineResult& out) {
     backend_cpu_ms.push_back(w.backend_cpu_ms);
     backend_sum += w.backend_ms;
     backend_cpu_sum += w.backend_cpu_ms;
+    worker_cpu_ms.push_back(w.worker_cpu_ms);
+    worker_cpu_sum += w.worker_cpu_ms;
     prior_sum += w.prior_ms;
     integrate_sum += w.integrate_ms;
     integrate_cpu_sum += w.integrate_cpu_ms;
@@ -559,11 +564,12 @@ void LogStageTimes(const PipelineResult& out) {
   auto log = GetLogger("system");
   log->info("stage times (wall / thread CPU): read {:.1f} / {:.1f} ms per frame; frontend "
             "{:.1f} / {:.1f} ms per frame; backend {:.1f} / {:.1f} ms per window median, "
-            "{:.1f} / {:.1f} mean, {:.1f} / {:.1f} s in all",
+            "{:.1f} / {:.1f} mean, {:.1f} / {:.1f} s in all; the backend's worker threads "
+            "{:.1f} ms CPU per window median, {:.1f} mean",
             out.read_ms_per_frame, out.read_cpu_ms_per_frame, frontend_ms / fe_frames,
             frontend_cpu_ms / fe_frames, median(backend_ms), median(backend_cpu_ms),
             backend_sum / windows, backend_cpu_sum / windows, backend_sum / 1000.0,
-            backend_cpu_sum / 1000.0);
+            backend_cpu_sum / 1000.0, median(worker_cpu_ms), worker_cpu_sum / windows);
   log->info("backend windows: {} of {} warm-started; per window (mean): prior {:.1f} ms wall, "
             "map integration {:.1f} / {:.1f} ms wall / CPU, queuing renders {:.1f} ms wall; run "
             "wall {:.1f} s, {:.2f} frames/s",

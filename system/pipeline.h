@@ -29,6 +29,7 @@ struct WindowStats {
   double backend_ms = 0.0;    ///< RunClusterSlam / baseline wall time, incl. building the prior
   double prior_ms = 0.0;      ///< of backend_ms: building the window's prior from the map
   double backend_cpu_ms = 0.0;  ///< CPU time of the backend thread over backend_ms
+  double worker_cpu_ms = 0.0;   ///< ... and of the backend's worker threads (backend_threads > 1)
   bool warm_started = false;  ///< the backend started from the map's prior
   double integrate_ms = 0.0;  ///< association + stitching
   double integrate_cpu_ms = 0.0;  ///< CPU time of the backend thread over integrate_ms

@@ -1,6 +1,7 @@
 #include "system/worker_pool.h"
 
 #include <algorithm>
+#include <ctime>
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -33,7 +34,14 @@ void WorkerPool::Run(int n, const std::function<void(int)>& task) const {
   };
   {
     std::vector<std::jthread> helpers;
-    for (int t = 1; t < std::min(threads_, n); ++t) helpers.emplace_back(work);
+    for (int t = 1; t < std::min(threads_, n); ++t)
+      helpers.emplace_back([&] {
+        work();
+        // The thread was started for this batch, so its CPU clock is its share of the work.
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        helper_cpu_us_ += ts.tv_sec * 1000000LL + ts.tv_nsec / 1000;
+      });
     work();
   }  // joined here
   if (first_error) std::rethrow_exception(first_error);

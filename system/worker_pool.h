@@ -1,5 +1,7 @@
 #pragma once
 // The threads behind the backend's TaskRunner (core/task_runner.h).
+#include <atomic>
+
 #include "core/task_runner.h"
 
 namespace cslam {
@@ -15,9 +17,11 @@ class WorkerPool final : public TaskRunner {
   explicit WorkerPool(int threads);
   int threads() const { return threads_; }
   void Run(int n, const std::function<void(int)>& task) const override;
+  double HelperCpuMs() const override { return helper_cpu_us_.load() * 1e-3; }
 
  private:
   int threads_;
+  mutable std::atomic<long long> helper_cpu_us_{0};  // summed over the started threads' lives
 };
 
 }  // namespace cslam

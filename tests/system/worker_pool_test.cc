@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <ctime>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -22,6 +23,42 @@ TEST(WorkerPool, RunsEveryTaskExactlyOnceForAnyThreadCount) {
       WorkerPool(threads).Run(n, [&](int i) { ++calls[i]; });
       for (int i = 0; i < n; ++i) EXPECT_EQ(calls[i].load(), 1) << threads << " threads, task " << i;
     }
+}
+
+/// Spins on the CPU until this thread has used `ms` of it.
+void BurnThreadCpu(double ms) {
+  const auto cpu_ms = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+  };
+  const double start = cpu_ms();
+  volatile double sink = 0.0;
+  while (cpu_ms() - start < ms) sink = sink + 1.0;
+}
+
+TEST(WorkerPool, CountsTheCpuItsOwnThreadsSpendButNotTheCallers) {
+  // The run log's backend CPU is the backend thread's clock; what the started threads spend
+  // must come from the pool. Two 30 ms tasks on two threads, each waiting (sleeping, up to
+  // 10 s) until both have started, so the started thread runs exactly one.
+  const WorkerPool two(2);
+  EXPECT_EQ(two.HelperCpuMs(), 0.0);
+  std::atomic<int> started{0}, on_helper{0};
+  const auto caller = std::this_thread::get_id();
+  two.Run(2, [&](int) {
+    if (std::this_thread::get_id() != caller) ++on_helper;
+    ++started;
+    for (int i = 0; i < 10000 && started.load() < 2; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    BurnThreadCpu(30.0);
+  });
+  ASSERT_EQ(on_helper.load(), 1);
+  EXPECT_GE(two.HelperCpuMs(), 30.0);
+  EXPECT_LT(two.HelperCpuMs(), 50.0);
+  // One thread: everything on the caller's clock, nothing to add.
+  const WorkerPool one(1);
+  one.Run(2, [](int) { BurnThreadCpu(5.0); });
+  EXPECT_EQ(one.HelperCpuMs(), 0.0);
 }
 
 TEST(WorkerPool, TwoThreadsRunTwoTasksAtTheSameTime) {
