@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <map>
 
 #include <spdlog/fmt/fmt.h>
@@ -15,12 +17,15 @@ void EstimateSanityOptions::Check() const {
               "far_landmark_depths", "must be >= 1", far_landmark_depths);
   CheckOption(max_far_landmark_fraction >= 0 && max_far_landmark_fraction <= 1,
               "max_far_landmark_fraction", "must be in [0, 1]", max_far_landmark_fraction);
+  CheckOption(max_cluster_depth_ratio == 0 || max_cluster_depth_ratio >= 1,
+              "max_cluster_depth_ratio", "must be 0 (off) or >= 1", max_cluster_depth_ratio);
 }
 
 void EstimateSanityOptions::Load(OptionsReader& reader) {
   reader.Read("max_step_depths", &max_step_depths);
   reader.Read("far_landmark_depths", &far_landmark_depths);
   reader.Read("max_far_landmark_fraction", &max_far_landmark_fraction);
+  reader.Read("max_cluster_depth_ratio", &max_cluster_depth_ratio);
 }
 
 namespace {
@@ -105,6 +110,53 @@ EstimateSanity JudgeEstimate(const MotionEstimate& e, const TrackletTable& table
                                  s.far_landmarks, s.landmarks, options.far_landmark_depths,
                                  s.max_depth_m));
   return s;
+}
+
+int DropImplausibleClusterPoses(MotionEstimate* e, const TrackletTable& table,
+                                const StereoCamera& camera, const EstimateSanityOptions& options) {
+  if (options.max_cluster_depth_ratio <= 0) return 0;
+  int dropped = 0;
+  std::vector<int> emptied;
+  for (ClusterMotion& m : e->clusters) {
+    ClusterMotion kept;
+    kept.cluster = m.cluster;
+    for (size_t k = 0; k < m.frames.size(); ++k) {
+      std::vector<double> ratios;
+      for (const ObservationRef& ref : table.ObservationsAt(m.frames[k])) {
+        const int l = ref.landmark;
+        if (l >= static_cast<int>(e->landmark_cluster.size()) || e->landmark_cluster[l] != m.cluster)
+          continue;
+        Eigen::Vector3d measured;
+        if (!camera.BackProject<double>(table.Get(ref).x, &measured) || !(measured.z() > 0)) continue;
+        const double z = (m.cam_from_cluster[k] * e->landmark_in_cluster[l]).z();
+        // Behind the camera counts as infinitely far.
+        ratios.push_back(z > 0 ? z / measured.z() : std::numeric_limits<double>::infinity());
+      }
+      bool absurd = false;
+      if (!ratios.empty()) {
+        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+        absurd = !(ratios[ratios.size() / 2] <= options.max_cluster_depth_ratio);
+      }
+      if (absurd) {
+        ++dropped;
+        continue;
+      }
+      kept.frames.push_back(m.frames[k]);
+      kept.cam_from_cluster.push_back(m.cam_from_cluster[k]);
+      kept.world_from_cluster.push_back(m.world_from_cluster[k]);
+    }
+    if (kept.frames.empty() && !m.frames.empty()) emptied.push_back(m.cluster);
+    m = std::move(kept);
+  }
+  if (!emptied.empty()) {
+    std::erase_if(e->clusters, [](const ClusterMotion& m) { return m.frames.empty(); });
+    for (size_t l = 0; l < e->landmark_cluster.size(); ++l)
+      if (std::find(emptied.begin(), emptied.end(), e->landmark_cluster[l]) != emptied.end()) {
+        e->landmark_cluster[l] = -1;
+        e->landmark_in_cluster[l] = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+      }
+  }
+  return dropped;
 }
 
 }  // namespace cslam

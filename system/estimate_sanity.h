@@ -27,6 +27,10 @@ struct EstimateSanityOptions {
   /// frames of outdoor seeds 1 and 3 and 7–8 % in 30-frame one-iteration windows of outdoor
   /// seed 3, with a good camera (docs/benchmarks.md); 0.25 leaves 3× headroom.
   double max_far_landmark_fraction = 0.25;
+  /// A moving cluster's pose in one frame is absurd when it places the cluster's landmarks
+  /// observed there, in the median, more than this × farther from the camera than their own
+  /// stereo measurements say (or behind it) [ours]. 0 turns the test off.
+  double max_cluster_depth_ratio = 3.0;
 
   void Check() const;
   void Load(OptionsReader& reader);
@@ -46,5 +50,14 @@ struct EstimateSanity {
 /// it. Non-finite or missing poses are refused too.
 EstimateSanity JudgeEstimate(const MotionEstimate& estimate, const TrackletTable& table,
                              const StereoCamera& camera, const EstimateSanityOptions& options);
+
+/// Removes from `estimate` the moving-cluster poses that fail max_cluster_depth_ratio, and a
+/// cluster left without poses (its landmarks become unused, -1). Such a pose comes from a solve
+/// that diverged on that frame — measured on generated outdoor seed 4 online: a car's pose
+/// placing its 18 observed points 37 km away where their disparities measure under 50 m, which
+/// the map stitched into a trajectory thousands of metres off — while the rest of the window
+/// is sound, so the window is kept and only those poses go. Returns the poses removed.
+int DropImplausibleClusterPoses(MotionEstimate* estimate, const TrackletTable& table,
+                                const StereoCamera& camera, const EstimateSanityOptions& options);
 
 }  // namespace cslam

@@ -121,6 +121,12 @@ class BackendStage {
                                 range.end - 1, sanity.reason);
       return stats;
     }
+    if (const int dropped =
+            DropImplausibleClusterPoses(&result.estimate, window_table, camera_, options_.sanity))
+      GetLogger("system")->info("window {}..{}: {} moving-cluster pose(s) left out, they place "
+                                "their points over {} x farther than measured",
+                                range.begin, range.end - 1, dropped,
+                                options_.sanity.max_cluster_depth_ratio);
     timer.Reset();
     const double integrate_cpu_start = ThreadCpuMs();
     stats.integration = map_.Integrate(result.estimate);

@@ -97,5 +97,103 @@ TEST(EstimateSanity, OptionsCheckNamesTheField) {
   }
 }
 
+/// The scene's truth with its moving objects as clusters at their true poses.
+MotionEstimate WithTrueClusters(const Scene& s) {
+  MotionEstimate e = s.truth;
+  const TrackletTable& t = s.seq.observations;
+  for (int object = 1; object < s.seq.num_objects(); ++object) {
+    ClusterMotion m;
+    m.cluster = object;
+    for (int f = e.range.begin; f < e.range.end; ++f) {
+      bool seen = false;
+      for (const ObservationRef& ref : t.ObservationsAt(f)) seen |= s.seq.landmark_object[ref.landmark] == object;
+      if (!seen) continue;
+      m.frames.push_back(f);
+      m.world_from_cluster.push_back(s.seq.world_from_object[object][f]);
+      m.cam_from_cluster.push_back(s.seq.world_from_cam[f].inverse() * s.seq.world_from_object[object][f]);
+    }
+    if (m.frames.empty()) continue;
+    e.clusters.push_back(m);
+  }
+  for (int i = 0; i < t.num_landmarks(); ++i)
+    if (s.seq.landmark_object[i] > 0) {
+      e.landmark_cluster[i] = s.seq.landmark_object[i];
+      e.landmark_in_cluster[i] = s.seq.landmark_in_object[i];
+    }
+  return e;
+}
+
+/// Moves the cluster's pose at index k `metres` farther along the camera's optical axis.
+void PushAway(MotionEstimate* e, size_t cluster, size_t k, double metres) {
+  ClusterMotion& m = e->clusters[cluster];
+  Pose shift = Pose::Identity();
+  shift.translation() = Eigen::Vector3d(0, 0, metres);
+  const Pose world_from_cam = m.world_from_cluster[k] * m.cam_from_cluster[k].inverse();
+  m.cam_from_cluster[k] = shift * m.cam_from_cluster[k];
+  m.world_from_cluster[k] = world_from_cam * m.cam_from_cluster[k];
+}
+
+TEST(EstimateSanity, TrueClusterPosesAreAllKept) {
+  const Scene s = MakeScene();
+  MotionEstimate e = WithTrueClusters(s);
+  ASSERT_GE(e.clusters.size(), 1u);
+  size_t poses = 0;
+  for (const ClusterMotion& m : e.clusters) poses += m.frames.size();
+  EXPECT_EQ(DropImplausibleClusterPoses(&e, s.seq.observations, s.seq.camera, {}), 0);
+  size_t after = 0;
+  for (const ClusterMotion& m : e.clusters) after += m.frames.size();
+  EXPECT_EQ(after, poses);
+}
+
+TEST(EstimateSanity, AClusterPoseFarBeyondItsMeasuredDepthsIsLeftOutAndTheRestKept) {
+  // Generated outdoor seed 4 online had a car posed 37 km away in one frame while its 18
+  // observations there measured under 50 m; the map stitched it into its trajectory.
+  const Scene s = MakeScene();
+  MotionEstimate e = WithTrueClusters(s);
+  ASSERT_GE(e.clusters[0].frames.size(), 3u);
+  const ClusterMotion before = e.clusters[0];
+  PushAway(&e, 0, 1, 1000.0);
+  const MotionEstimate pushed = e;
+  EXPECT_EQ(DropImplausibleClusterPoses(&e, s.seq.observations, s.seq.camera, {}), 1);
+  ASSERT_EQ(e.clusters[0].frames.size(), before.frames.size() - 1);
+  EXPECT_EQ(e.clusters[0].frames[0], before.frames[0]);
+  EXPECT_EQ(e.clusters[0].frames[1], before.frames[2]);
+  // Off: nothing is dropped.
+  MotionEstimate off = pushed;
+  EstimateSanityOptions o;
+  o.max_cluster_depth_ratio = 0;
+  EXPECT_EQ(DropImplausibleClusterPoses(&off, s.seq.observations, s.seq.camera, o), 0);
+  // A pose behind the camera is absurd too.
+  MotionEstimate behind = WithTrueClusters(s);
+  PushAway(&behind, 0, 0, -1000.0);
+  EXPECT_EQ(DropImplausibleClusterPoses(&behind, s.seq.observations, s.seq.camera, {}), 1);
+}
+
+TEST(EstimateSanity, AClusterWithEveryPoseAbsurdIsRemovedWithItsLabels) {
+  const Scene s = MakeScene();
+  MotionEstimate e = WithTrueClusters(s);
+  const int label = e.clusters[0].cluster;
+  const size_t n = e.clusters[0].frames.size();
+  for (size_t k = 0; k < n; ++k) PushAway(&e, 0, k, 1000.0);
+  EXPECT_EQ(DropImplausibleClusterPoses(&e, s.seq.observations, s.seq.camera, {}),
+            static_cast<int>(n));
+  for (const ClusterMotion& m : e.clusters) EXPECT_NE(m.cluster, label);
+  for (size_t i = 0; i < e.landmark_cluster.size(); ++i) {
+    EXPECT_NE(e.landmark_cluster[i], label) << i;
+    if (s.seq.landmark_object[i] == label) EXPECT_EQ(e.landmark_cluster[i], -1) << i;
+  }
+}
+
+TEST(EstimateSanity, ClusterDepthRatioCheckNamesTheField) {
+  EstimateSanityOptions o;
+  o.max_cluster_depth_ratio = 0.5;
+  try {
+    o.Check();
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_cluster_depth_ratio"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace cslam
