@@ -115,27 +115,40 @@ EstimateSanity JudgeEstimate(const MotionEstimate& e, const TrackletTable& table
 int DropImplausibleClusterPoses(MotionEstimate* e, const TrackletTable& table,
                                 const StereoCamera& camera, const EstimateSanityOptions& options) {
   if (options.max_cluster_depth_ratio <= 0) return 0;
+  // Each frame's observations are walked once, each one's depth ratio filed under its
+  // cluster's pose at that frame: ratios[cluster index][pose index].
+  std::map<int, size_t> index_of;
+  for (size_t c = 0; c < e->clusters.size(); ++c) index_of[e->clusters[c].cluster] = c;
+  std::vector<std::vector<std::vector<double>>> ratios(e->clusters.size());
+  for (size_t c = 0; c < e->clusters.size(); ++c) ratios[c].resize(e->clusters[c].frames.size());
+  for (int f = e->range.begin; f < e->range.end && f < table.num_frames(); ++f)
+    for (const ObservationRef& ref : table.ObservationsAt(f)) {
+      const int l = ref.landmark;
+      if (l >= static_cast<int>(e->landmark_cluster.size()) || e->landmark_cluster[l] < 1) continue;
+      const auto c = index_of.find(e->landmark_cluster[l]);
+      if (c == index_of.end()) continue;
+      const ClusterMotion& m = e->clusters[c->second];
+      const auto k = std::lower_bound(m.frames.begin(), m.frames.end(), f);
+      if (k == m.frames.end() || *k != f) continue;
+      Eigen::Vector3d measured;
+      if (!camera.BackProject<double>(table.Get(ref).x, &measured) || !(measured.z() > 0)) continue;
+      const double z = (m.cam_from_cluster[k - m.frames.begin()] * e->landmark_in_cluster[l]).z();
+      // Behind the camera counts as infinitely far.
+      ratios[c->second][k - m.frames.begin()].push_back(
+          z > 0 ? z / measured.z() : std::numeric_limits<double>::infinity());
+    }
   int dropped = 0;
   std::vector<int> emptied;
-  for (ClusterMotion& m : e->clusters) {
+  for (size_t c = 0; c < e->clusters.size(); ++c) {
+    ClusterMotion& m = e->clusters[c];
     ClusterMotion kept;
     kept.cluster = m.cluster;
     for (size_t k = 0; k < m.frames.size(); ++k) {
-      std::vector<double> ratios;
-      for (const ObservationRef& ref : table.ObservationsAt(m.frames[k])) {
-        const int l = ref.landmark;
-        if (l >= static_cast<int>(e->landmark_cluster.size()) || e->landmark_cluster[l] != m.cluster)
-          continue;
-        Eigen::Vector3d measured;
-        if (!camera.BackProject<double>(table.Get(ref).x, &measured) || !(measured.z() > 0)) continue;
-        const double z = (m.cam_from_cluster[k] * e->landmark_in_cluster[l]).z();
-        // Behind the camera counts as infinitely far.
-        ratios.push_back(z > 0 ? z / measured.z() : std::numeric_limits<double>::infinity());
-      }
+      std::vector<double>& r = ratios[c][k];
       bool absurd = false;
-      if (!ratios.empty()) {
-        std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
-        absurd = !(ratios[ratios.size() / 2] <= options.max_cluster_depth_ratio);
+      if (!r.empty()) {
+        std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+        absurd = !(r[r.size() / 2] <= options.max_cluster_depth_ratio);
       }
       if (absurd) {
         ++dropped;

@@ -122,6 +122,12 @@ std::vector<LegendEntry> LegendEntries(const std::vector<RenderTrajectory>& traj
   return entries;
 }
 
+/// The legend's rows for a plot `plot_height` px tall (LegendEntries with its room).
+std::vector<LegendEntry> LegendEntriesFor(const std::vector<RenderTrajectory>& trajectories,
+                                          int plot_height) {
+  return LegendEntries(trajectories, plot_height - 2 * kLegendMargin);
+}
+
 /// How many points, sampled every pixel along the drawn trajectories (lines and start markers,
 /// widened by their half width), fall inside `box`.
 int TrajectoryPixelsIn(const std::vector<RenderTrajectory>& trajectories,
@@ -155,7 +161,7 @@ TopViewLayout PlaceLegend(const std::vector<RenderTrajectory>& trajectories, int
   const int right = width - kMarginRight, bottom = height - kMarginBottom;
   TopViewLayout layout = FitPlot(trajectories, kMarginLeft, kMarginTop, right, bottom);
   const cv::Rect plot = PlotRect(layout);
-  const std::vector<LegendEntry> entries = LegendEntries(trajectories, plot.height - 24);
+  const std::vector<LegendEntry> entries = LegendEntriesFor(trajectories, plot.height);
   if (entries.empty()) return layout;
   const cv::Size size = LegendSize(entries);
 
@@ -294,7 +300,7 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
   cv::rectangle(image, plot, cv::Scalar(kFrameRgb[2], kFrameRgb[1], kFrameRgb[0]), 1);
 
   if (!layout.legend.empty())
-    DrawLegend(image, LegendEntries(trajectories, plot.height - 24), layout.legend.tl());
+    DrawLegend(image, LegendEntriesFor(trajectories, plot.height), layout.legend.tl());
   return image;
 }
 
