@@ -92,17 +92,24 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                     TrajectoryFormat::kTum);
   }
 
+  // A map cluster whose landmarks all went to other clusters (or to the static world) in
+  // later windows is kept by the map, since a later window may still continue it by its
+  // motion, but it is no object: nothing observed supports its trajectory any more. On KITTI
+  // raw 0005 these were 30 of the 116 files written for 2 labelled objects.
+  const auto written = [](const MapCluster& c) {
+    return !c.world_from_cluster.empty() && c.num_landmarks > 0;
+  };
   WriteFileAtomically((out / "objects" / "index.csv").string(), [&](std::ostream& o) {
     o << "cluster,first_frame,last_frame,frames,landmarks\n";
     for (const auto& [id, c] : map.clusters()) {
-      if (c.world_from_cluster.empty()) continue;
+      if (!written(c)) continue;
       o << id << "," << c.world_from_cluster.begin()->first << ","
         << c.world_from_cluster.rbegin()->first << "," << c.world_from_cluster.size() << ","
         << c.num_landmarks << "\n";
     }
   });
   for (const auto& [id, c] : map.clusters()) {
-    if (c.world_from_cluster.empty()) continue;
+    if (!written(c)) continue;
     const Trajectory& t = outputs.clusters[id] = ClusterTrajectory(c, input.timestamps);
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
