@@ -78,6 +78,12 @@ KittiRawSource::KittiRawSource(const std::string& drive_dir, bool color) {
                        "expected one OXTS packet per image (" + std::to_string(left_files_.size()) +
                            "), got " + std::to_string(packets.size()));
     ground_truth_ = OxtsToCameraPoses(packets, cam_from_imu_);
+    GroundTruthCrossCheck check;
+    check.source = "OXTS velocities integrated";
+    // The packets are synchronised to the images (one per frame), so the image clock times them.
+    check.positions = OxtsDeadReckonedCameraPositions(packets, timestamps_, cam_from_imu_);
+    for (const OxtsPacket& p : packets) check.position_accuracy_m.push_back(p.pos_accuracy);
+    cross_check_ = std::move(check);
   }
   if (has_labels)
     boxes_ = ReadTrackletLabels((drive / "tracklet_labels.xml").string(), cam_from_velo_, size());

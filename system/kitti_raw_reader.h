@@ -24,6 +24,8 @@ class KittiRawSource : public StereoSource {
   StereoFrame Load(int index) const override;
   std::optional<std::vector<Pose>> GroundTruth() const override { return ground_truth_; }
   std::vector<std::vector<ObjectBox>> ObjectBoxes() const override { return boxes_; }
+  /// The OXTS's dead-reckoned path (its velocities integrated) and its stated position accuracy.
+  std::optional<GroundTruthCrossCheck> CrossCheck() const override { return cross_check_; }
 
   /// Rectified left camera ← velodyne (includes R_rect_00 and, for colour, camera 02's offset).
   const Pose& cam_from_velo() const { return cam_from_velo_; }
@@ -38,6 +40,7 @@ class KittiRawSource : public StereoSource {
   Pose cam_from_velo_ = Pose::Identity();
   Pose cam_from_imu_ = Pose::Identity();
   std::optional<std::vector<Pose>> ground_truth_;
+  std::optional<GroundTruthCrossCheck> cross_check_;
   std::vector<std::vector<ObjectBox>> boxes_;
 };
 

@@ -100,6 +100,13 @@ nlohmann::json ToJson(const RunMetrics& m) {
       {"disparity_offset_sigma_px", Value(m.calibration.disparity_offset_sigma_px)},
       {"disparity_offset_applied_px", Value(m.calibration.disparity_offset_applied_px)},
       {"disparity_offset_frames", Value(m.calibration.disparity_offset_frames)}};
+  j["ground_truth"] = {
+      {"cross_check", Value(m.ground_truth.cross_check)},
+      {"position_accuracy_median_m", Value(m.ground_truth.position_accuracy_median_m)},
+      {"cross_check_path_length_m", Value(m.ground_truth.cross_check_path_length_m)},
+      {"cross_check_ate_sim3_m", Value(m.ground_truth.cross_check_ate_sim3_m)},
+      {"camera_ate_sim3_vs_cross_check_m", Value(m.ground_truth.camera_ate_sim3_vs_cross_check_m)},
+      {"camera_sim3_scale_vs_cross_check", Value(m.ground_truth.camera_sim3_scale_vs_cross_check)}};
   j["conventions"] = {
       {"ate",
        "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each "
@@ -191,6 +198,13 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     Read(ca, "disparity_offset_sigma_px", m.calibration.disparity_offset_sigma_px);
     Read(ca, "disparity_offset_applied_px", m.calibration.disparity_offset_applied_px);
     Read(ca, "disparity_offset_frames", m.calibration.disparity_offset_frames);
+    const json& g = Child(j, "ground_truth");
+    Read(g, "cross_check", m.ground_truth.cross_check);
+    Read(g, "position_accuracy_median_m", m.ground_truth.position_accuracy_median_m);
+    Read(g, "cross_check_path_length_m", m.ground_truth.cross_check_path_length_m);
+    Read(g, "cross_check_ate_sim3_m", m.ground_truth.cross_check_ate_sim3_m);
+    Read(g, "camera_ate_sim3_vs_cross_check_m", m.ground_truth.camera_ate_sim3_vs_cross_check_m);
+    Read(g, "camera_sim3_scale_vs_cross_check", m.ground_truth.camera_sim3_scale_vs_cross_check);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, std::string("unexpected value type: ") + e.what());
   }

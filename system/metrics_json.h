@@ -66,6 +66,19 @@ struct RunMetrics {
     std::optional<int> disparity_offset_frames;       ///< frames it was estimated over
   };
 
+  /// How far the ground truth itself can be trusted, where the dataset says (KITTI raw): the
+  /// device's median stated position accuracy, and its second estimate of the camera path
+  /// (GroundTruthCrossCheck) against the ground truth and against the estimate. An ATE against
+  /// the ground truth well below cross_check_ate_sim3_m measures the reference, not the method.
+  struct GroundTruthCheck {
+    std::optional<std::string> cross_check;  ///< what the second estimate is
+    std::optional<double> position_accuracy_median_m;
+    std::optional<double> cross_check_path_length_m;
+    std::optional<double> cross_check_ate_sim3_m;   ///< second estimate vs the ground truth
+    std::optional<double> camera_ate_sim3_vs_cross_check_m;  ///< the run's camera vs the second estimate
+    std::optional<double> camera_sim3_scale_vs_cross_check;
+  };
+
   std::string sequence;
   std::optional<int> frames;
   std::string method;
@@ -77,6 +90,7 @@ struct RunMetrics {
   Timing timing;
   Status run;
   Calibration calibration;
+  GroundTruthCheck ground_truth;
 };
 
 /// The JSON document: the keys above, plus "conventions" naming each metric's statistic,

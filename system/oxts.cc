@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "core/errors.h"
 #include "system/input_files.h"
@@ -41,8 +42,18 @@ OxtsPacket ReadPacket(const std::string& path) {
   p.pitch = v[4];
   p.yaw = v[5];
   p.vf = v[8];
+  p.vl = v[9];
+  p.vu = v[10];
   p.pos_accuracy = v[23];
   return p;
+}
+
+// KITTI devkit convention: yaw about z (up), then pitch about y, then roll about x.
+Eigen::Matrix3d WorldFromImuRotation(const OxtsPacket& p) {
+  return (Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(p.pitch, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(p.roll, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
 }
 
 }  // namespace
@@ -77,14 +88,39 @@ std::vector<Pose> OxtsToCameraPoses(const std::vector<OxtsPacket>& packets, cons
         Eigen::Vector3d(scale * kEarthRadius * p.lon * M_PI / 180.0,
                         scale * kEarthRadius * std::log(std::tan((90.0 + p.lat) * M_PI / 360.0)),
                         p.alt);
-    world_from_imu.linear() = (Eigen::AngleAxisd(p.yaw, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(p.pitch, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(p.roll, Eigen::Vector3d::UnitX()))
-                                  .toRotationMatrix();
+    world_from_imu.linear() = WorldFromImuRotation(p);
     if (k == 0) imu0_from_world = world_from_imu.inverse();
     poses.push_back(cam_from_imu * (imu0_from_world * world_from_imu) * imu_from_cam);
   }
   return poses;
+}
+
+std::vector<Eigen::Vector3d> OxtsDeadReckonedCameraPositions(const std::vector<OxtsPacket>& packets,
+                                                             const std::vector<double>& timestamps,
+                                                             const Pose& cam_from_imu) {
+  std::vector<Eigen::Vector3d> positions;
+  if (packets.empty()) return positions;
+  if (timestamps.size() != packets.size())
+    throw std::invalid_argument("OxtsDeadReckonedCameraPositions: one timestamp per packet");
+  // World = the IMU at packet 0, its axes east/north/up like the Mercator frame's.
+  Pose imu0_from_world = Pose::Identity();
+  imu0_from_world.linear() = WorldFromImuRotation(packets[0]).transpose();
+  const Pose imu_from_cam = cam_from_imu.inverse();
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_before = Eigen::Vector3d::Zero();
+  positions.reserve(packets.size());
+  for (size_t k = 0; k < packets.size(); ++k) {
+    const OxtsPacket& p = packets[k];
+    const Eigen::Matrix3d rotation = WorldFromImuRotation(p);
+    const Eigen::Vector3d velocity = rotation * Eigen::Vector3d(p.vf, p.vl, p.vu);
+    if (k > 0) position += 0.5 * (velocity + velocity_before) * (timestamps[k] - timestamps[k - 1]);
+    velocity_before = velocity;
+    Pose world_from_imu = Pose::Identity();
+    world_from_imu.linear() = rotation;
+    world_from_imu.translation() = position;
+    positions.push_back((cam_from_imu * (imu0_from_world * world_from_imu) * imu_from_cam).translation());
+  }
+  return positions;
 }
 
 }  // namespace cslam

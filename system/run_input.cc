@@ -48,6 +48,13 @@ class TruncatedSource : public StereoSource {
     if (static_cast<int>(boxes.size()) > n_) boxes.resize(n_);
     return boxes;
   }
+  std::optional<GroundTruthCrossCheck> CrossCheck() const override {
+    auto check = inner_->CrossCheck();
+    if (check && static_cast<int>(check->positions.size()) > n_) check->positions.resize(n_);
+    if (check && static_cast<int>(check->position_accuracy_m.size()) > n_)
+      check->position_accuracy_m.resize(n_);
+    return check;
+  }
 
  private:
   std::unique_ptr<StereoSource> inner_;
@@ -106,6 +113,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
   in.timestamps = src->timestamps();
   in.gt_world_from_cam = src->GroundTruth();
   in.gt_boxes = src->ObjectBoxes();
+  in.gt_cross_check = src->CrossCheck();
   in.images = std::move(src);
   return in;
 }

@@ -27,6 +27,7 @@ struct RunInput {
   std::optional<std::vector<Pose>> gt_world_from_cam; ///< per frame, world = camera at frame 0
   std::optional<SyntheticSequence> synthetic;         ///< full synthetic ground truth
   std::vector<std::vector<ObjectBox>> gt_boxes;       ///< [frame] labelled boxes (KITTI raw)
+  std::optional<GroundTruthCrossCheck> gt_cross_check; ///< the ground truth's own second estimate
 
   int num_frames() const { return static_cast<int>(timestamps.size()); }
   bool has_images() const { return images != nullptr; }

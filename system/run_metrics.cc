@@ -217,6 +217,36 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result, 
   SummariseObjects(m->objects);
 }
 
+std::optional<double> Finite(double v) {
+  return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+}
+
+// The ground truth's cross-check (RunMetrics::GroundTruthCheck) over the frames processed.
+RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const PipelineResult& result) {
+  const GroundTruthCrossCheck& check = *input.gt_cross_check;
+  RunMetrics::GroundTruthCheck g;
+  g.cross_check = check.source;
+  const int frames = std::min<int>(result.frames_processed, check.positions.size());
+  if (!check.position_accuracy_m.empty())
+    g.position_accuracy_median_m = Median(std::vector<double>(
+        check.position_accuracy_m.begin(),
+        check.position_accuracy_m.begin() + std::min<int>(frames, check.position_accuracy_m.size())));
+  std::vector<Pose> poses;
+  for (int f = 0; f < frames; ++f) {
+    Pose p = Pose::Identity();
+    p.translation() = check.positions[f];
+    poses.push_back(p);
+  }
+  const Trajectory second = GroundTruthTrajectory(poses, input.timestamps, frames);
+  const Trajectory gt = GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, frames);
+  g.cross_check_path_length_m = PathLength(second);
+  g.cross_check_ate_sim3_m = Finite(ComputeAte(gt, second, true).rmse_m);
+  const AteResult camera = ComputeAte(second, CameraTrajectory(result.map, input.timestamps), true);
+  g.camera_ate_sim3_vs_cross_check_m = Finite(camera.rmse_m);
+  if (g.camera_ate_sim3_vs_cross_check_m) g.camera_sim3_scale_vs_cross_check = camera.alignment.scale;
+  return g;
+}
+
 }  // namespace
 
 RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result,
@@ -231,6 +261,8 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
         GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, result.frames_processed);
     m.camera = EvaluateCameraTrajectory(gt, CameraTrajectory(result.map, input.timestamps));
   }
+  if (input.gt_world_from_cam && input.gt_cross_check && result.frames_processed > 1)
+    m.ground_truth = CheckGroundTruth(input, result);
   if (input.synthetic) SyntheticMetrics(input, result, &m);
   if (input.kind == "kitti_raw") KittiRawObjectMetrics(input, result, &m);
   if (result.batch && result.batch->estimate.chi2 > 0)
@@ -279,6 +311,12 @@ std::string SummarizeMetrics(const RunMetrics& m) {
     if (m.camera.path_length_m) s << ", path " << *m.camera.path_length_m << " m (gt " << m.camera.gt_path_length_m.value_or(NAN) << " m)";
     s << "\n";
   }
+  if (m.ground_truth.cross_check_ate_sim3_m)
+    s << "  ground truth check: " << m.ground_truth.cross_check.value_or("?") << " lie "
+      << *m.ground_truth.cross_check_ate_sim3_m << " m (Sim3 ATE) from the ground truth, whose"
+      << " stated position accuracy is " << m.ground_truth.position_accuracy_median_m.value_or(NAN)
+      << " m (median); the camera lies " << m.ground_truth.camera_ate_sim3_vs_cross_check_m.value_or(NAN)
+      << " m from them\n";
   if (m.clustering.accuracy)
     s << "  clustering: accuracy " << *m.clustering.accuracy << ", VI " << m.clustering.vi.value_or(NAN)
       << " (natural log), " << m.clustering.clusters.value_or(0) << " clusters for "

@@ -29,6 +29,14 @@ struct ObjectBox {
   double h = 0, w = 0, l = 0;            ///< height (z), width (y), length (x), metres
 };
 
+/// A second estimate of the camera path from the ground-truth device itself, and the accuracy
+/// the device states for its positions: what bounds any error measured against GroundTruth().
+struct GroundTruthCrossCheck {
+  std::string source;  ///< e.g. "OXTS velocities integrated"
+  std::vector<Eigen::Vector3d> positions;  ///< per frame, in GroundTruth()'s world
+  std::vector<double> position_accuracy_m; ///< per frame, as the device reports it (may be empty)
+};
+
 /// One sequence of rectified stereo pairs.
 class StereoSource {
  public:
@@ -48,6 +56,8 @@ class StereoSource {
   virtual std::optional<std::vector<Pose>> GroundTruth() const = 0;
   /// [frame] labelled object boxes; empty when the dataset has no labels.
   virtual std::vector<std::vector<ObjectBox>> ObjectBoxes() const { return {}; }
+  /// The ground truth's cross-check, when the dataset has one (KITTI raw with OXTS).
+  virtual std::optional<GroundTruthCrossCheck> CrossCheck() const { return std::nullopt; }
 };
 
 }  // namespace cslam

@@ -95,6 +95,24 @@ TEST(KittiRaw, OxtsGroundTruthStartsAtIdentityAndDrivesForward) {
   EXPECT_GT(step.normalized().z(), 0.95);
 }
 
+TEST(KittiRaw, OxtsVelocitiesGiveASecondPathAsLongAsTheImuMeasured) {
+  const KittiRawSource drive = Drive0005();
+  const auto check = drive.CrossCheck();
+  ASSERT_TRUE(check.has_value());
+  ASSERT_EQ(check->positions.size(), 154u);
+  ASSERT_EQ(check->position_accuracy_m.size(), 154u);
+  EXPECT_TRUE(testing::MatrixNear(check->positions[0], Eigen::Vector3d::Zero(), 1e-9));
+  // README: the IMU's integrated speed gives 71.3 m where the GPS positions give 69.4 m.
+  double length = 0;
+  for (size_t k = 1; k < check->positions.size(); ++k)
+    length += (check->positions[k] - check->positions[k - 1]).norm();
+  EXPECT_NEAR(length, 71.3, 0.5);
+  for (double a : check->position_accuracy_m) {
+    EXPECT_GT(a, 0.2);
+    EXPECT_LT(a, 1.0);
+  }
+}
+
 TEST(KittiRaw, FrameChainPutsTheImuBehindAndBelowTheCamera) {
   // The IMU sits about 1 m behind and 0.7 m below camera 00 on the KITTI car (devkit figure):
   // in the camera frame (y down, z forward) that is y > 0 and z < 0.

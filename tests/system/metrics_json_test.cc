@@ -70,6 +70,9 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   m.calibration.disparity_offset_sigma_px = 0.008;
   m.calibration.disparity_offset_applied_px = 0.172;
   m.calibration.disparity_offset_frames = 30;
+  m.ground_truth.cross_check = "OXTS velocities integrated";
+  m.ground_truth.cross_check_ate_sim3_m = 0.355;
+  m.ground_truth.camera_sim3_scale_vs_cross_check = 0.989;
 
   const auto path = std::filesystem::temp_directory_path() /
                     ("cslam_metrics_" + std::to_string(::getpid())) / "metrics.json";
@@ -89,6 +92,10 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   EXPECT_EQ(r.calibration.disparity_offset_applied_px, 0.172);
   EXPECT_EQ(r.calibration.disparity_offset_frames, 30);
   EXPECT_DOUBLE_EQ(j["calibration"]["disparity_offset_sigma_px"].get<double>(), 0.008);
+  EXPECT_EQ(r.ground_truth.cross_check, "OXTS velocities integrated");
+  EXPECT_EQ(r.ground_truth.cross_check_ate_sim3_m, 0.355);
+  EXPECT_EQ(r.ground_truth.camera_sim3_scale_vs_cross_check, 0.989);
+  EXPECT_FALSE(r.ground_truth.position_accuracy_median_m.has_value());
 }
 
 TEST(MetricsJson, RunStatusRecordsInterruptionsFailuresAndGaps) {

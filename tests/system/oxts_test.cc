@@ -59,5 +59,53 @@ TEST(Oxts, ClimbingMovesTheCameraUpWhichIsMinusY) {
   EXPECT_TRUE(testing::MatrixNear(poses[1].translation(), Eigen::Vector3d(0, -2, 0), 1e-9));
 }
 
+// A car circling counter-clockwise at 8 m/s on a 40 m radius, sampled at 10 Hz, its GPS
+// positions exact; `speed_factor` scales the velocities the packets report.
+std::vector<OxtsPacket> Circle(int n, double speed_factor) {
+  const double lat0 = 49.0, lon0 = 8.4, radius = 40.0, speed = 8.0, dt = 0.1;
+  const double scale = std::cos(lat0 * M_PI / 180.0), r_earth = 6378137.0;
+  const double my0 = scale * r_earth * std::log(std::tan((90.0 + lat0) * M_PI / 360.0));
+  std::vector<OxtsPacket> packets;
+  for (int k = 0; k < n; ++k) {
+    const double angle = speed * dt * k / radius;  // heading = angle (yaw 0 = east at k = 0)
+    const double east = radius * std::sin(angle), north = radius * (1 - std::cos(angle));
+    OxtsPacket p = Packet(0, lon0 + east / (scale * r_earth) * 180.0 / M_PI, angle);
+    p.lat = 360.0 / M_PI * std::atan(std::exp((my0 + north) / (scale * r_earth))) - 90.0;
+    p.vf = speed * speed_factor;
+    packets.push_back(p);
+  }
+  return packets;
+}
+
+TEST(Oxts, IntegratedVelocitiesRetraceConsistentGpsPositions) {
+  const std::vector<OxtsPacket> packets = Circle(100, 1.0);
+  std::vector<double> times;
+  for (int k = 0; k < 100; ++k) times.push_back(0.1 * k);
+  const std::vector<Pose> gps = OxtsToCameraPoses(packets, CamFromImu());
+  const std::vector<Eigen::Vector3d> integrated =
+      OxtsDeadReckonedCameraPositions(packets, times, CamFromImu());
+  ASSERT_EQ(integrated.size(), gps.size());
+  // 80 m of a 40 m circle: the trapezoid rule's chord error stays at millimetres.
+  for (size_t k = 0; k < gps.size(); ++k)
+    EXPECT_TRUE(testing::MatrixNear(integrated[k], gps[k].translation(), 5e-3)) << "packet " << k;
+  EXPECT_GT(gps.back().translation().norm(), 40.0);
+}
+
+TEST(Oxts, IntegratedVelocitiesFollowTheSpeedTheDeviceReports) {
+  // A speed sensor 5 % fast: the integrated path is 5 % longer than the GPS one.
+  const std::vector<OxtsPacket> packets = Circle(50, 1.05);
+  std::vector<double> times;
+  for (int k = 0; k < 50; ++k) times.push_back(0.1 * k);
+  const std::vector<Eigen::Vector3d> integrated =
+      OxtsDeadReckonedCameraPositions(packets, times, CamFromImu());
+  const std::vector<Pose> gps = OxtsToCameraPoses(packets, CamFromImu());
+  double length_integrated = 0, length_gps = 0;
+  for (size_t k = 1; k < integrated.size(); ++k) {
+    length_integrated += (integrated[k] - integrated[k - 1]).norm();
+    length_gps += (gps[k].translation() - gps[k - 1].translation()).norm();
+  }
+  EXPECT_NEAR(length_integrated / length_gps, 1.05, 1e-3);
+}
+
 }  // namespace
 }  // namespace cslam
