@@ -114,9 +114,6 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
     WriteTrajectory(t, stem + ".tum", TrajectoryFormat::kTum);
-    WriteFileAtomically(stem + "_frames.txt", [&](std::ostream& o) {
-      for (int f : t.frames) o << f << "\n";
-    });
   }
 
   std::vector<RenderPoint> cloud;

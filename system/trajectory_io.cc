@@ -118,7 +118,10 @@ void ReadFrameIndexFile(const std::string& file, Trajectory& trajectory) {
 
 }  // namespace
 
-std::string FrameIndexPathFor(const std::string& file) { return file + ".frames"; }
+std::string FrameIndexPathFor(const std::string& file) {
+  const std::filesystem::path p(file);
+  return (p.parent_path() / (p.stem().string() + "_frames.txt")).string();
+}
 
 const char* TrajectoryFormatName(TrajectoryFormat format) {
   return format == TrajectoryFormat::kKitti ? "kitti" : "tum";

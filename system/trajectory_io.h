@@ -28,7 +28,8 @@ Trajectory ReadTrajectory(const std::string& file, TrajectoryFormat format);
 void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
                      TrajectoryFormat format);
 
-/// Side file holding the frame index of each line of a KITTI trajectory: "<file>.frames".
+/// Side file holding the frame index of each line of a KITTI trajectory: "<stem>_frames.txt"
+/// beside it ("objects/3.txt" → "objects/3_frames.txt"); '#' lines in it are comments.
 std::string FrameIndexPathFor(const std::string& file);
 
 /// KITTI when the first data line has 12 fields, TUM when it has 8; otherwise throws

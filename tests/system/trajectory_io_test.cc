@@ -175,14 +175,14 @@ TEST_F(TrajectoryIo, GuessRejectsOtherFieldCountsAndMissingFiles) {
 
 TEST_F(TrajectoryIo, FrameIndexFileMustMatchThePoses) {
   const std::string path = Write("o.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1 0\n");
-  Write("o.txt.frames", "4\n");
+  Write("o_frames.txt", "4\n");
   EXPECT_THROW(ReadTrajectory(path, TrajectoryFormat::kKitti), InputError);
-  Write("o.txt.frames", "4\n3\n");
+  Write("o_frames.txt", "4\n3\n");
   try {
     ReadTrajectory(path, TrajectoryFormat::kKitti);
     ADD_FAILURE();
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind(path + ".frames:2: ", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind((dir_ / "o_frames.txt").string() + ":2: ", 0), 0u) << e.what();
   }
 }
 
