@@ -110,6 +110,13 @@ void BundleAdjustmentOptions::Check() const {
               "must be >= 0 baselines (0 = off)", far_depth_baselines);
   CheckOption(std::isfinite(far_disparity_sigma_px) && far_disparity_sigma_px > 0,
               "far_disparity_sigma_px", "must be > 0 px", far_disparity_sigma_px);
+  CheckOption(std::isfinite(motion_prior_sigma_m) && motion_prior_sigma_m >= 0,
+              "motion_prior_sigma_m", "must be >= 0 m (0 = off)", motion_prior_sigma_m);
+  CheckOption(std::isfinite(motion_prior_sigma_rad) && motion_prior_sigma_rad >= 0,
+              "motion_prior_sigma_rad", "must be >= 0 rad (0 = off)", motion_prior_sigma_rad);
+  CheckOption((motion_prior_sigma_m > 0) == (motion_prior_sigma_rad > 0), "motion_prior_sigma_rad",
+              "must be > 0 exactly when motion_prior_sigma_m is (both 0 turns the prior off)",
+              motion_prior_sigma_rad);
 }
 
 void BundleAdjustmentOptions::Load(OptionsReader& reader) {
@@ -128,6 +135,8 @@ void BundleAdjustmentOptions::Load(OptionsReader& reader) {
   reader.Read("sparse_schur_min_poses", &sparse_schur_min_poses);
   reader.Read("far_depth_baselines", &far_depth_baselines);
   reader.Read("far_disparity_sigma_px", &far_disparity_sigma_px);
+  reader.Read("motion_prior_sigma_m", &motion_prior_sigma_m);
+  reader.Read("motion_prior_sigma_rad", &motion_prior_sigma_rad);
   reader.Read("points_first_sparse_ordering", &points_first_sparse_ordering);
   reader.Read("analytic_jacobians", &analytic_jacobians);
   reader.Read("dense_schur_smaller_side", &dense_schur_smaller_side);
@@ -265,6 +274,17 @@ struct CoupledReprojectionCost {
   ReprojectionCost base_;
 };
 
+/// MotionPriorResidual over three pose blocks, for Ceres.
+struct MotionPriorCost {
+  explicit MotionPriorCost(const MotionPriorTerm& term) : term_(term) {}
+  template <typename T>
+  bool operator()(const T* a, const T* b, const T* c, T* residual) const {
+    MotionPriorResidual(term_, a, b, c, residual);
+    return true;
+  }
+  MotionPriorTerm term_;
+};
+
 /// Everything one Ceres solve needs that must outlive the Problem.
 class Solve {
  public:
@@ -314,6 +334,13 @@ class Solve {
     return true;
   }
 
+  /// A constant-velocity prior on three poses already in the solve (by observations).
+  void AddMotionPrior(PoseBlock* a, PoseBlock* b, PoseBlock* c, const MotionPriorTerm& term) {
+    if (!Has(*a) || !Has(*b) || !Has(*c)) return;
+    priors_.push_back({{a, b, c}, term});
+    has_priors_ = true;
+  }
+
   bool Has(const PoseBlock& pose) const { return known_.count(pose.data()) > 0; }
   void HoldConstant(PoseBlock* pose) {
     if (!Has(*pose)) return;
@@ -324,7 +351,7 @@ class Solve {
 
   /// Runs Levenberg–Marquardt; adds to `summary`.
   void Run(BundleAdjustmentSummary* summary) {
-    if (pending_.empty() && problem_->NumResidualBlocks() == 0) return;
+    if (pending_.empty() && priors_.empty() && problem_->NumResidualBlocks() == 0) return;
     const ceres::SparseLinearAlgebraLibraryType library =
         options_.sparse_library == SparseLibrary::kEigen ? ceres::EIGEN_SPARSE
                                                          : ceres::SUITE_SPARSE;
@@ -344,6 +371,11 @@ class Solve {
       problem_->AddResidualBlock(function, loss_.get(), o.pose->data(), o.point);
     }
     pending_.clear();
+    for (const PendingPrior& prior : priors_)
+      problem_->AddResidualBlock(
+          new ceres::AutoDiffCostFunction<MotionPriorCost, 6, 7, 7, 7>(new MotionPriorCost(prior.term)),
+          &prior_loss_, prior.poses[0]->data(), prior.poses[1]->data(), prior.poses[2]->data());
+    priors_.clear();
     for (double* pose : pose_blocks_) {
       if (problem_->GetManifold(pose) == nullptr) problem_->SetManifold(pose, &pose_manifold_);
       if (constant_.count(pose)) problem_->SetParameterBlockConstant(pose);
@@ -378,7 +410,7 @@ class Solve {
     if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
         options_.points_first_sparse_ordering) {
       const bool poses_first = so.linear_solver_type == ceres::DENSE_SCHUR &&
-                               options_.dense_schur_smaller_side && !coupled_ &&
+                               options_.dense_schur_smaller_side && !coupled_ && !has_priors_ &&
                                3 * FreeBlocks(points_) < 6 * FreeBlocks(pose_blocks_);
       auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
       for (double* p : points_) ordering->AddElementToGroup(p, poses_first ? 1 : 0);
@@ -434,6 +466,12 @@ class Solve {
     p.residuals.reserve(pending_.size());
     for (const Pending& o : pending_)
       p.residuals.push_back({pose_index[o.pose->data()], point_index[o.point], o.x, o.sqrt_info});
+    for (const PendingPrior& prior : priors_) {
+      StereoLmPrior lp;
+      for (int i = 0; i < 3; ++i) lp.pose[i] = pose_index[prior.poses[i]->data()];
+      lp.term = prior.term;
+      p.priors.push_back(lp);
+    }
     StereoLmOptions lm;
     lm.kernel = options_.robust_kernel;
     lm.threshold_chi2 = options_.robust_threshold_chi2;
@@ -488,6 +526,14 @@ class Solve {
     Eigen::Vector3d x;
   };
   std::vector<Pending> pending_;
+  /// A motion prior waiting for Run.
+  struct PendingPrior {
+    std::array<PoseBlock*, 3> poses;
+    MotionPriorTerm term;
+  };
+  std::vector<PendingPrior> priors_;
+  ceres::HuberLoss prior_loss_{std::sqrt(kMotionPriorHuberChi2)};
+  bool has_priors_ = false;  // priors couple poses: they cannot be eliminated first
   std::vector<double*> points_, pose_blocks_;
   int num_poses_ = 0;
   bool coupled_ = false;  // a residual touches two poses: they are not independent
@@ -516,8 +562,10 @@ class Adjuster {
  public:
   Adjuster(const TrackletTable& table, const StereoCamera& camera,
            const BundleAdjustmentOptions& options, MotionEstimate* estimate,
-           const std::vector<bool>* held_out, const std::vector<bool>* fixed_cameras)
-      : table_(table), camera_(camera), options_(options), est_(*estimate) {
+           const std::vector<bool>* held_out, const std::vector<bool>* fixed_cameras,
+           bool clusters_only = false)
+      : table_(table), camera_(camera), options_(options), est_(*estimate),
+        clusters_only_(clusters_only) {
     if (held_out) held_out_ = *held_out;
     if (fixed_cameras) fixed_cameras_ = *fixed_cameras;
     fixed_cameras_.resize(est_.world_from_cam.size(), false);
@@ -542,7 +590,16 @@ class Adjuster {
 
   BundleAdjustmentSummary Run() {
     BundleAdjustmentSummary summary;
-    if (options_.coupling == BaCoupling::kDecoupled) {
+    if (clusters_only_) {
+      const int n = static_cast<int>(clusters_.size());
+      std::vector<BundleAdjustmentSummary> parts(n);
+      RunTasks(options_.runner.get(), n, [&](int task) { SolveCluster(&clusters_[task], &parts[task]); });
+      for (const BundleAdjustmentSummary& part : parts) {
+        summary.iterations += part.iterations;
+        summary.num_solves += part.num_solves;
+        summary.usable = summary.usable && part.usable;
+      }
+    } else if (options_.coupling == BaCoupling::kDecoupled) {
       // Step (1) and step (2) share no unknowns: every moving cluster's solve and the static
       // one may run side by side (options.runner). Each writes only its own poses and points
       // and its own summary, merged in a fixed order, so the result does not depend on the
@@ -593,6 +650,7 @@ class Adjuster {
       }
     }
     HoldWeakPoses(cs->cam_from_cluster, counts, options_.min_observations_per_pose, &solve);
+    if (options_.motion_prior_sigma_m > 0) AddMotionPriors(cs, label, counts, &solve);
     // Gauge: the cluster's frame is arbitrary up to SE(3); hold its first well-seen pose.
     for (PoseBlock& pose : cs->cam_from_cluster) {
       auto it = counts.find(&pose);
@@ -602,6 +660,38 @@ class Adjuster {
       }
     }
     solve.Run(summary);
+  }
+
+  /// The constant-velocity prior (motion_prior_sigma_m) on every three consecutive frames
+  /// whose poses the solve estimates (held weak poses would pull their neighbours towards
+  /// their unrefined values). Camera poses are the solve's input: the static solve refines
+  /// them at the same time, by centimetres against the prior's decimetres.
+  void AddMotionPriors(ClusterState* cs, int label, const ObservationCount& counts, Solve* solve) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int i = 0; i < static_cast<int>(points_.size()); ++i)
+      if (est_.landmark_cluster[i] == label && Adjusted(i)) {
+        centre += Eigen::Map<const Eigen::Vector3d>(points_[i].data());
+        ++n;
+      }
+    if (n == 0) return;
+    centre /= n;
+    const auto well_seen = [&](int k) {
+      const auto it = counts.find(&cs->cam_from_cluster[k]);
+      return it != counts.end() && it->second >= options_.min_observations_per_pose;
+    };
+    const std::vector<int>& frames = cs->motion->frames;
+    for (size_t k = 0; k + 2 < frames.size(); ++k) {
+      if (frames[k + 1] != frames[k] + 1 || frames[k + 2] != frames[k] + 2) continue;
+      if (!well_seen(k) || !well_seen(k + 1) || !well_seen(k + 2)) continue;
+      MotionPriorTerm term;
+      for (int i = 0; i < 3; ++i) term.world_from_cam[i] = est_.world_from_cam[frames[k + i] - est_.range.begin];
+      term.centre = centre;
+      term.sigma_m = options_.motion_prior_sigma_m;
+      term.sigma_rad = options_.motion_prior_sigma_rad;
+      solve->AddMotionPrior(&cs->cam_from_cluster[k], &cs->cam_from_cluster[k + 1],
+                            &cs->cam_from_cluster[k + 2], term);
+    }
   }
 
   /// Step (2) of the decoupled scheme: camera poses and static landmarks.
@@ -707,7 +797,7 @@ class Adjuster {
   void WriteBack() {
     // Fixed poses are not written back: the quaternion round trip would perturb them in the
     // last bits, and the caller relies on them being exactly the map's.
-    for (size_t f = 0; f < cam_from_world_.size(); ++f)
+    for (size_t f = 0; f < cam_from_world_.size() && !clusters_only_; ++f)
       if (!fixed_cameras_[f]) est_.world_from_cam[f] = cam_from_world_[f].ToPose().inverse();
     for (size_t i = 0; i < points_.size(); ++i)
       if (Usable(static_cast<int>(i)))
@@ -722,7 +812,8 @@ class Adjuster {
       }
     }
     for (size_t i = 0; i < points_.size(); ++i)
-      if (held_out_[i] && Usable(static_cast<int>(i))) PlaceHeldOut(static_cast<int>(i));
+      if (held_out_[i] && Usable(static_cast<int>(i)) && !(clusters_only_ && est_.landmark_cluster[i] == 0))
+        PlaceHeldOut(static_cast<int>(i));
   }
 
   /// Mean of the landmark's back-projections mapped into its cluster's frame by the refined
@@ -759,6 +850,7 @@ class Adjuster {
   const StereoCamera& camera_;
   const BundleAdjustmentOptions& options_;
   MotionEstimate& est_;
+  const bool clusters_only_;  // AdjustClusterMotions: step (1) alone, the rest as given
   std::vector<PoseBlock> cam_from_world_;
   std::vector<std::array<double, 3>> points_;
   std::vector<ClusterState> clusters_;
@@ -781,6 +873,20 @@ BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCam
   const double initial = EvaluateChi2(table, camera, estimate);
   BundleAdjustmentSummary summary =
       Adjuster(table, camera, options, estimate, held_out, fixed_cameras).Run();
+  summary.initial_chi2 = initial;
+  summary.final_chi2 = EvaluateChi2(table, camera, estimate);
+  summary.num_residuals = estimate->num_residuals;
+  return summary;
+}
+
+BundleAdjustmentSummary AdjustClusterMotions(const TrackletTable& table, const StereoCamera& camera,
+                                             const BundleAdjustmentOptions& options,
+                                             MotionEstimate* estimate) {
+  CSLAM_CHECK(static_cast<int>(estimate->world_from_cam.size()) == estimate->range.size(),
+              "AdjustClusterMotions: world_from_cam must have one pose per frame of the range");
+  const double initial = EvaluateChi2(table, camera, estimate);
+  BundleAdjustmentSummary summary =
+      Adjuster(table, camera, options, estimate, nullptr, nullptr, true).Run();
   summary.initial_chi2 = initial;
   summary.final_chi2 = EvaluateChi2(table, camera, estimate);
   summary.num_residuals = estimate->num_residuals;

@@ -47,6 +47,13 @@ BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCam
                                      const std::vector<bool>* held_out = nullptr,
                                      const std::vector<bool>* fixed_cameras = nullptr);
 
+/// Step (1) of the decoupled scheme alone: every moving cluster's landmarks and per-frame poses
+/// (with options' motion prior, when set), the camera poses and static landmarks as given.
+/// ClusterSLAM's last step when the prior is on (backend/clusterslam.h).
+BundleAdjustmentSummary AdjustClusterMotions(const TrackletTable& table, const StereoCamera& camera,
+                                             const BundleAdjustmentOptions& options,
+                                             MotionEstimate* estimate);
+
 /// Σ squared Mahalanobis reprojection error of `estimate` (no robust kernel) over every
 /// observation in the range of a landmark with a cluster and a finite position; also writes
 /// estimate->chi2 and estimate->num_residuals. When `per_landmark_mean` is given it receives

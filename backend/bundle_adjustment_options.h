@@ -109,6 +109,12 @@ struct BundleAdjustmentOptions {
   double far_depth_baselines = 0.0;
   /// Standard deviation added to a far static observation's right column, px, > 0.
   double far_disparity_sigma_px = 10.0;
+  /// [ours, beyond the paper] Constant-velocity prior on each moving cluster's poses in three
+  /// consecutive frames (backend/motion_prior.h), in the moving-cluster solve: standard
+  /// deviations of the body centre's second difference (m per frame²) and of the change of its
+  /// per-frame rotation (rad). Both 0 = off; both > 0 = on.
+  double motion_prior_sigma_m = 0.0;
+  double motion_prior_sigma_rad = 0.0;
   /// Not from YAML: runs the decoupled scheme's solves (each moving cluster, the static
   /// world) side by side, and EstimateMotions' shape initialisations; null: one after another.
   /// The result is the same either way. Set by system/ (pipeline option `backend_threads`).

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 
 #include "backend/reprojection_error.h"
 #include "core/spd3.h"
@@ -108,6 +109,9 @@ struct Linearisation {
   std::vector<Mat3> h_point;            // [point]
   std::vector<Eigen::Vector3d> g_point;
   std::vector<Mat63> w;                 // [residual] J_poseᵀ J_point (weighted); zero if held
+  /// Pose–pose blocks of the priors between two different free poses: (row, column, block)
+  /// with row < column (the reduced system's upper triangle).
+  std::vector<std::tuple<int, int, Mat6>> prior_pairs;
 };
 
 class Solver {
@@ -174,6 +178,11 @@ class Solver {
       first_pose_[f] = std::min(first_pose_[f], lowest_pose[r.point]);
       first_point_[r.point] = std::min(first_point_[r.point], lowest_point[f]);
     }
+    for (const StereoLmPrior& prior : p_.priors)
+      for (int i : prior.pose)
+        for (int j : prior.pose)
+          if (free_index_[i] >= 0 && free_index_[j] >= 0)
+            first_pose_[free_index_[i]] = std::min(first_pose_[free_index_[i]], free_index_[j]);
   }
 
   StereoLmSummary Run() {
@@ -184,7 +193,7 @@ class Solver {
       return summary;
     }
     summary.initial_cost = summary.final_cost = cost;
-    if (p_.residuals.empty()) return summary;
+    if (p_.residuals.empty() && p_.priors.empty()) return summary;
     double radius = kInitialRadius, decrease_factor = 2.0;
     Linearise();
     while (summary.iterations < options_.max_iterations) {
@@ -250,8 +259,89 @@ class Solver {
       Kernel(options_, e.squaredNorm(), &rho, &weight);
       sum += rho;
     }
+    for (const StereoLmPrior& prior : p_.priors) {
+      Vec6 r;
+      MotionPriorResidual(prior.term, poses[prior.pose[0]], poses[prior.pose[1]],
+                          poses[prior.pose[2]], r.data());
+      sum += PriorRho(r.squaredNorm());
+    }
     *cost = 0.5 * sum;
     return true;
+  }
+
+  /// Huber on the prior's squared norm (motion_prior.h).
+  static double PriorRho(double s, double* weight = nullptr) {
+    const double b = kMotionPriorHuberChi2;
+    if (s <= b) {
+      if (weight) *weight = 1.0;
+      return s;
+    }
+    const double r = std::sqrt(s), a = std::sqrt(b);
+    if (weight) *weight = a / r;
+    return 2.0 * a * r - b;
+  }
+
+  /// The priors' Jacobians by central differences in the solver's own tangent space (Apply:
+  /// rotation perturbed on the left, translation added), added to the pose blocks.
+  void LinearisePriors() {
+    Linearisation& lin = lin_;
+    lin.prior_pairs.clear();
+    constexpr double kStep = 1e-6;
+    for (const StereoLmPrior& prior : p_.priors) {
+      std::array<std::array<double, 7>, 3> x;
+      for (int i = 0; i < 3; ++i) std::copy(p_.poses[prior.pose[i]], p_.poses[prior.pose[i]] + 7, x[i].begin());
+      const auto residual = [&](Vec6* r) {
+        MotionPriorResidual(prior.term, x[0].data(), x[1].data(), x[2].data(), r->data());
+      };
+      Vec6 r0;
+      residual(&r0);
+      Mat6 jac[3];
+      for (int i = 0; i < 3; ++i) {
+        jac[i].setZero();
+        if (free_index_[prior.pose[i]] < 0) continue;
+        const std::array<double, 7> base = x[i];
+        for (int k = 0; k < 6; ++k) {
+          Vec6 plus, minus;
+          for (const double sign : {1.0, -1.0}) {
+            Vec6 d = Vec6::Zero();
+            d(k) = sign * kStep;
+            x[i] = base;
+            Perturb(d, x[i].data());
+            residual(sign > 0 ? &plus : &minus);
+          }
+          jac[i].col(k) = (plus - minus) / (2 * kStep);
+        }
+        x[i] = base;
+      }
+      double weight;  // IRLS, as the reprojection residuals' kernel
+      PriorRho(r0.squaredNorm(), &weight);
+      for (int i = 0; i < 3; ++i) {
+        const int fi = free_index_[prior.pose[i]];
+        if (fi < 0) continue;
+        lin.g_pose[fi].noalias() += weight * jac[i].transpose() * r0;
+        for (int j = 0; j < 3; ++j) {
+          const int fj = free_index_[prior.pose[j]];
+          if (fj < 0) continue;
+          const Mat6 block = weight * jac[i].transpose() * jac[j];
+          if (fi == fj)
+            lin.h_pose[fi] += block;
+          else if (fi < fj)
+            lin.prior_pairs.emplace_back(fi, fj, block);
+        }
+      }
+    }
+  }
+
+  /// x ⊞ d for one pose block: R ← Exp(φ) R, t ← t + δt.
+  static void Perturb(const Vec6& d, double* pose) {
+    const Eigen::Vector3d phi = d.head<3>();
+    const double angle = phi.norm();
+    const Eigen::Quaterniond dq = angle > 0
+                                      ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle))
+                                      : Eigen::Quaterniond::Identity();
+    Eigen::Map<Eigen::Quaterniond> q(pose);
+    q = (dq * q).normalized();
+    for (int j = 0; j < 3; ++j) pose[4 + j] += d(3 + j);
   }
 
   void Linearise() {
@@ -314,6 +404,7 @@ class Solver {
       lin.w[k].topRows<3>().noalias() = q * ar;
       lin.w[k].bottomRows<3>() = ar;
     }
+    LinearisePriors();
   }
 
   static Mat3 Skew(const Eigen::Vector3d& v) {
@@ -333,8 +424,9 @@ class Solver {
     // Every residual touches one pose, so either side can be eliminated; factor the smaller
     // reduced system (a moving cluster: a few points in 30 frames).
     const int np = static_cast<int>(p_.points.size());
-    const bool ok = 3 * np < 6 * num_free_ ? EliminatePoses(mu, d_pose, d_point)
-                                           : EliminatePoints(mu, d_pose, d_point);
+    const bool ok = 3 * np < 6 * num_free_ && p_.priors.empty()
+                        ? EliminatePoses(mu, d_pose, d_point)
+                        : EliminatePoints(mu, d_pose, d_point);
     if (!ok) return false;
     const Linearisation& lin = lin_;
     // (H + D) δ = −g, so δᵀHδ = −gᵀδ − δᵀDδ and L(0) − L(δ) = −gᵀδ − ½δᵀHδ = ½(δᵀDδ − gᵀδ).
@@ -367,6 +459,7 @@ class Solver {
       s.block<6, 6>(6 * f, 6 * f) = h;
       rhs.segment<6>(6 * f) = -lin.g_pose[f];
     }
+    for (const auto& [row, col, block] : lin.prior_pairs) s.block<6, 6>(6 * row, 6 * col) += block;
     std::vector<Mat3> inv(np);
     std::vector<Mat63> v;
     for (int l = 0; l < np; ++l) {
@@ -494,15 +587,7 @@ class Solver {
       candidate_poses_[i] = pose_store_[i].data();
       const int f = free_index_[i];
       if (f < 0) continue;
-      const Vec6& d = d_pose[f];
-      const Eigen::Vector3d phi = d.head<3>();
-      const double angle = phi.norm();
-      const Eigen::Quaterniond dq =
-          angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, phi / angle))
-                    : Eigen::Quaterniond::Identity();
-      Eigen::Map<Eigen::Quaterniond> q(pose_store_[i].data());
-      q = (dq * q).normalized();
-      for (int j = 0; j < 3; ++j) pose_store_[i][4 + j] += d(3 + j);
+      Perturb(d_pose[f], pose_store_[i].data());
     }
     point_store_.resize(p_.points.size());
     candidate_points_.resize(p_.points.size());

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "backend/bundle_adjustment_options.h"
+#include "backend/motion_prior.h"
 #include "core/stereo_camera.h"
 
 namespace cslam {
@@ -26,12 +27,21 @@ struct StereoLmResidual {
   Eigen::Matrix3d sqrt_info;  ///< S with SᵀS = Σ⁻¹
 };
 
+/// A constant-velocity prior (backend/motion_prior.h) on poses `pose[0..2]`.
+struct StereoLmPrior {
+  int pose[3] = {0, 0, 0};
+  MotionPriorTerm term;
+};
+
 /// The unknowns, in place: each pose 7 doubles, each point 3; `pose_free[i]` false holds pose i.
+/// Priors add ½‖r‖² each to the cost (no robust kernel) and couple their poses, so a problem
+/// with priors always eliminates its points.
 struct StereoLmProblem {
   std::vector<double*> poses;
   std::vector<bool> pose_free;
   std::vector<double*> points;
   std::vector<StereoLmResidual> residuals;
+  std::vector<StereoLmPrior> priors;
 };
 
 /// Stopping and kernel settings (the Ceres solve's equivalents).

@@ -5,11 +5,13 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 #include "backend/labelling.h"
 #include "backend/point_tracks.h"
 #include "core/errors.h"
 #include "tests/backend/fake_motion_estimator.h"
+#include "tests/backend/synthetic_bodies.h"
 #include "tests/backend/test_scene.h"
 
 namespace cslam {
@@ -144,6 +146,43 @@ TEST(ClusterSlam, DriftingStaticTracksDoNotBecomeMovingClustersAndTheMoverIsFoun
   EXPECT_GE(best, 0.9 * mover) << "the mover is one cluster";
   EXPECT_EQ(moving_clusters.size(), 1u) << "no cluster made of drifting tracks";
   for (int l : drifting) EXPECT_LE(labels[l], 0) << "landmark " << l;
+}
+
+TEST(ClusterSlam, MotionPriorSmoothsTheObjectsWithoutChangingTheClustering) {
+  testing::BodySceneSpec spec;
+  spec.outdoor = true;
+  spec.points_per_body = 15;
+  spec.pixel_sigma = 1.0;
+  spec.seed = 4;
+  const testing::BodyScene scene = testing::MakeBodyScene(spec);
+  const FrameRange range{0, spec.num_frames};
+  ClusterSlamOptions without = ClusterSlamOptions::Outdoor();
+  ClusterSlamOptions with = without;
+  with.motion.bundle_adjustment.motion_prior_sigma_m = 0.05;
+  with.motion.bundle_adjustment.motion_prior_sigma_rad = 0.01;
+  const BackendResult a = RunClusterSlam(scene.table, scene.camera, range, without);
+  const BackendResult b = RunClusterSlam(scene.table, scene.camera, range, with);
+  // The prior is the last step, after the labels are settled: the same clusters come out.
+  EXPECT_EQ(a.estimate.landmark_cluster, b.estimate.landmark_cluster);
+  for (int k = 0; k < spec.num_frames; ++k)
+    EXPECT_TRUE(a.estimate.world_from_cam[k].isApprox(b.estimate.world_from_cam[k], 0.0)) << k;
+  // Each moving cluster's trajectory: the body it mostly holds, its step error with and without.
+  std::set<int> bodies_found;
+  for (const ClusterMotion& m : a.estimate.clusters) {
+    std::map<int, int> votes;
+    for (size_t i = 0; i < scene.labels.size(); ++i)
+      if (a.estimate.landmark_cluster[i] == m.cluster) ++votes[scene.labels[i]];
+    const int body = std::max_element(votes.begin(), votes.end(), [](auto x, auto y) {
+                       return x.second < y.second;
+                     })->first;
+    if (body == 0) continue;
+    bodies_found.insert(body);
+    const double e_without = testing::CentroidStepError(scene, a.estimate, m.cluster, body);
+    const double e_with = testing::CentroidStepError(scene, b.estimate, m.cluster, body);
+    std::printf("cluster %d (body %d): step error %.4f -> %.4f m\n", m.cluster, body, e_without, e_with);
+    EXPECT_LT(e_with, 0.6 * e_without) << "cluster " << m.cluster;
+  }
+  EXPECT_EQ(bodies_found.size(), 2u);
 }
 
 TEST(ClusterSlam, PresetsAndAblations) {

@@ -138,6 +138,29 @@ inline double Ate(const std::vector<Pose>& estimate, const std::vector<Pose>& tr
   return std::sqrt(sum / std::max<size_t>(a.size(), 1));
 }
 
+/// Centroids of the landmarks that cluster `label` of `est` shares with true body `body`: in
+/// the cluster's frame (the estimate's positions) and in the body's (the truth's); n of them.
+struct SharedCentroids {
+  Eigen::Vector3d in_cluster = Eigen::Vector3d::Zero(), in_body = Eigen::Vector3d::Zero();
+  int n = 0;
+};
+
+template <typename Estimate>
+SharedCentroids CentroidsOf(const BodyScene& scene, const Estimate& est, int label, int body) {
+  SharedCentroids c;
+  for (size_t i = 0; i < est.landmark_cluster.size(); ++i)
+    if (est.landmark_cluster[i] == label && scene.labels[i] == body) {
+      c.in_cluster += est.landmark_in_cluster[i];
+      c.in_body += scene.point_in_body[i];
+      ++c.n;
+    }
+  if (c.n > 0) {
+    c.in_cluster /= c.n;
+    c.in_body /= c.n;
+  }
+  return c;
+}
+
 /// Error of a moving cluster's estimated track: the centroid of its landmarks, moved by
 /// world_from_cluster, against the true centroid moved by world_from_body, as an RMSE over
 /// its frames. The centroid (not the cluster frame's origin, which is the camera at first
@@ -146,21 +169,53 @@ template <typename Estimate>
 double CentroidTrackRmse(const BodyScene& scene, const Estimate& est, int label) {
   const auto* m = est.FindCluster(label);
   if (!m) return std::numeric_limits<double>::infinity();
-  Eigen::Vector3d c_est = Eigen::Vector3d::Zero(), c_true = Eigen::Vector3d::Zero();
-  int n = 0;
-  for (size_t i = 0; i < est.landmark_cluster.size(); ++i)
-    if (est.landmark_cluster[i] == label && scene.labels[i] == label) {
-      c_est += est.landmark_in_cluster[i];
-      c_true += scene.point_in_body[i];
-      ++n;
-    }
-  c_est /= n;
-  c_true /= n;
+  const SharedCentroids c = CentroidsOf(scene, est, label, label);
   double sum = 0.0;
   for (size_t k = 0; k < m->frames.size(); ++k)
-    sum += (m->world_from_cluster[k] * c_est - scene.world_from_body[label][m->frames[k]] * c_true)
+    sum += (m->world_from_cluster[k] * c.in_cluster -
+            scene.world_from_body[label][m->frames[k]] * c.in_body)
                .squaredNorm();
   return std::sqrt(sum / m->frames.size());
+}
+
+/// The same centroid's step from each frame to the next, against the truth's, as an RMSE over
+/// the consecutive frame pairs: what RPE per frame measures for an object.
+template <typename Estimate>
+double CentroidStepError(const BodyScene& scene, const Estimate& est, int label, int body) {
+  const auto* m = est.FindCluster(label);
+  const SharedCentroids c = CentroidsOf(scene, est, label, body);
+  if (!m || c.n == 0) return std::numeric_limits<double>::infinity();
+  const auto& truth = scene.world_from_body[body];
+  double sum = 0.0;
+  int steps = 0;
+  for (size_t k = 0; k + 1 < m->frames.size(); ++k) {
+    const int f = m->frames[k], g = m->frames[k + 1];
+    if (g != f + 1) continue;
+    const Eigen::Vector3d step = m->world_from_cluster[k + 1] * c.in_cluster - m->world_from_cluster[k] * c.in_cluster;
+    sum += (step - (truth[g] * c.in_body - truth[f] * c.in_body)).squaredNorm();
+    ++steps;
+  }
+  return std::sqrt(sum / std::max(steps, 1));
+}
+
+/// The centroid's error about its mean over the frames (RMS): the track's scatter without the
+/// constant offset a few points' centroid carries, which no motion prior can see.
+template <typename Estimate>
+double CentroidTrackScatter(const BodyScene& scene, const Estimate& est, int label) {
+  const auto* m = est.FindCluster(label);
+  const SharedCentroids c = CentroidsOf(scene, est, label, label);
+  if (!m || c.n == 0) return std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> d;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < m->frames.size(); ++k) {
+    d.push_back(m->world_from_cluster[k] * c.in_cluster -
+                scene.world_from_body[label][m->frames[k]] * c.in_body);
+    mean += d.back();
+  }
+  mean /= d.size();
+  double sum = 0.0;
+  for (const Eigen::Vector3d& e : d) sum += (e - mean).squaredNorm();
+  return std::sqrt(sum / d.size());
 }
 
 /// Mean rotation error (rad) after aligning the first poses (both trajectories start at I).
