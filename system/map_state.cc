@@ -357,6 +357,11 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
     const auto members = MembersByCluster();
     for (const auto& [younger, ids] : members) {
       if (younger == 0) continue;
+      // Fewer than 3 points do not fix a rigid body's pose: such a cluster's trajectory can
+      // agree with an object's over a few frames by chance, and the merge would then extend
+      // the object with its poses (KITTI raw 0005: a 2-landmark cluster carried the van 10 m
+      // astray for 25 frames; docs/benchmarks.md, "Object pose noise and the motion prior").
+      if (ids.size() < 3) continue;
       const auto y = clusters_.find(younger);
       if (y == clusters_.end() || y->second.world_from_cluster.empty()) continue;
       std::vector<Eigen::Vector3d> points;

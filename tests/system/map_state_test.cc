@@ -197,6 +197,40 @@ TEST(MapState, AnObjectSplitIntoTwoMapClustersIsMergedUnderTheOlderId) {
   }
 }
 
+// Object 1 comes back as a window cluster of only `kept` new landmarks, its motion perfect.
+struct Fragment {
+  MapState map;
+  WindowIntegration info;
+  std::vector<int> fresh;
+};
+Fragment ObjectReturnsWith(const World& w, size_t kept) {
+  Fragment f;
+  f.map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
+  f.fresh = Reidentify(w, 1, &e);
+  for (size_t k = kept; k < f.fresh.size(); ++k) {
+    e.landmark_cluster[f.fresh[k]] = -1;
+    e.landmark_in_cluster[f.fresh[k]] = Eigen::Vector3d::Constant(NAN);
+  }
+  f.info = f.map.Integrate(e);
+  return f;
+}
+
+TEST(MapState, AClusterOfTwoLandmarksIsNotMergedByItsMotion) {
+  const World w = MakeWorld(40);
+  // Its motion agrees with cluster 1's, but 2 points do not fix a rigid body's pose, so the
+  // map does not let it extend the object's trajectory.
+  const Fragment two = ObjectReturnsWith(w, 2);
+  EXPECT_EQ(two.info.created, 1);
+  EXPECT_TRUE(two.info.merged.empty());
+  EXPECT_NE(two.map.ClusterOf(two.fresh[0]), 1);
+  EXPECT_EQ(two.map.ClusterOf(two.fresh[0]), two.map.ClusterOf(two.fresh[1]));
+  // With 3 of them it is merged, as a fragment of the object.
+  const Fragment three = ObjectReturnsWith(w, 3);
+  ASSERT_EQ(three.info.merged.size(), 1u);
+  EXPECT_EQ(three.map.ClusterOf(three.fresh[0]), 1);
+}
+
 TEST(MapState, TwoObjectsWithDifferentMotionsAreNeverMerged) {
   const World w = MakeWorld(60);
   MapState map;
