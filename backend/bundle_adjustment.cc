@@ -338,7 +338,6 @@ class Solve {
   void AddMotionPrior(PoseBlock* a, PoseBlock* b, PoseBlock* c, const MotionPriorTerm& term) {
     if (!Has(*a) || !Has(*b) || !Has(*c)) return;
     priors_.push_back({{a, b, c}, term});
-    has_priors_ = true;
   }
 
   bool Has(const PoseBlock& pose) const { return known_.count(pose.data()) > 0; }
@@ -375,7 +374,6 @@ class Solve {
       problem_->AddResidualBlock(
           new ceres::AutoDiffCostFunction<MotionPriorCost, 6, 7, 7, 7>(new MotionPriorCost(prior.term)),
           &prior_loss_, prior.poses[0]->data(), prior.poses[1]->data(), prior.poses[2]->data());
-    priors_.clear();
     for (double* pose : pose_blocks_) {
       if (problem_->GetManifold(pose) == nullptr) problem_->SetManifold(pose, &pose_manifold_);
       if (constant_.count(pose)) problem_->SetParameterBlockConstant(pose);
@@ -410,7 +408,8 @@ class Solve {
     if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
         options_.points_first_sparse_ordering) {
       const bool poses_first = so.linear_solver_type == ceres::DENSE_SCHUR &&
-                               options_.dense_schur_smaller_side && !coupled_ && !has_priors_ &&
+                               options_.dense_schur_smaller_side && !coupled_ &&
+                               priors_.empty() &&  // priors couple poses: not eliminable first
                                3 * FreeBlocks(points_) < 6 * FreeBlocks(pose_blocks_);
       auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
       for (double* p : points_) ordering->AddElementToGroup(p, poses_first ? 1 : 0);
@@ -531,9 +530,8 @@ class Solve {
     std::array<PoseBlock*, 3> poses;
     MotionPriorTerm term;
   };
-  std::vector<PendingPrior> priors_;
+  std::vector<PendingPrior> priors_;  // kept after Run adds them: they decide the ordering
   ceres::HuberLoss prior_loss_{std::sqrt(kMotionPriorHuberChi2)};
-  bool has_priors_ = false;  // priors couple poses: they cannot be eliminated first
   std::vector<double*> points_, pose_blocks_;
   int num_poses_ = 0;
   bool coupled_ = false;  // a residual touches two poses: they are not independent
@@ -590,27 +588,20 @@ class Adjuster {
 
   BundleAdjustmentSummary Run() {
     BundleAdjustmentSummary summary;
-    if (clusters_only_) {
-      const int n = static_cast<int>(clusters_.size());
-      std::vector<BundleAdjustmentSummary> parts(n);
-      RunTasks(options_.runner.get(), n, [&](int task) { SolveCluster(&clusters_[task], &parts[task]); });
-      for (const BundleAdjustmentSummary& part : parts) {
-        summary.iterations += part.iterations;
-        summary.num_solves += part.num_solves;
-        summary.usable = summary.usable && part.usable;
-      }
-    } else if (options_.coupling == BaCoupling::kDecoupled) {
+    if (clusters_only_ || options_.coupling == BaCoupling::kDecoupled) {
       // Step (1) and step (2) share no unknowns: every moving cluster's solve and the static
       // one may run side by side (options.runner). Each writes only its own poses and points
       // and its own summary, merged in a fixed order, so the result does not depend on the
-      // runner. The static solve, the largest, is task 0 so that it starts first.
+      // runner. The static solve, the largest, is task 0 so that it starts first;
+      // AdjustClusterMotions runs step (1) alone.
       const int n = static_cast<int>(clusters_.size());
+      const int first_cluster_task = clusters_only_ ? 0 : 1;
       std::vector<BundleAdjustmentSummary> parts(n + 1);
-      RunTasks(options_.runner.get(), n + 1, [&](int task) {
-        if (task == 0)
+      RunTasks(options_.runner.get(), n + first_cluster_task, [&](int task) {
+        if (task < first_cluster_task)
           SolveStatic(&parts[n]);
         else
-          SolveCluster(&clusters_[task - 1], &parts[task - 1]);
+          SolveCluster(&clusters_[task - first_cluster_task], &parts[task - first_cluster_task]);
       });
       for (const BundleAdjustmentSummary& part : parts) {
         summary.iterations += part.iterations;

@@ -34,8 +34,8 @@ struct StereoLmPrior {
 };
 
 /// The unknowns, in place: each pose 7 doubles, each point 3; `pose_free[i]` false holds pose i.
-/// Priors add ½‖r‖² each to the cost (no robust kernel) and couple their poses, so a problem
-/// with priors always eliminates its points.
+/// Priors add ½ρ(‖r‖²) each to the cost (Huber, kMotionPriorHuberChi2) and couple their
+/// poses, so a problem with priors always eliminates its points.
 struct StereoLmProblem {
   std::vector<double*> poses;
   std::vector<bool> pose_free;

@@ -217,10 +217,6 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result, 
   SummariseObjects(m->objects);
 }
 
-std::optional<double> Finite(double v) {
-  return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
-}
-
 // The ground truth's cross-check (RunMetrics::GroundTruthCheck) over the frames processed.
 RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const PipelineResult& result) {
   const GroundTruthCrossCheck& check = *input.gt_cross_check;

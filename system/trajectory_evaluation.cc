@@ -4,14 +4,14 @@
 
 namespace cslam {
 
-namespace {
-
 std::optional<double> Finite(double v) {
   if (!std::isfinite(v)) {
     return std::nullopt;
   }
   return v;
 }
+
+namespace {
 
 // Mean over the found objects that have the figure.
 std::optional<double> MeanOver(const std::vector<RunMetrics::PerObject>& objects,

@@ -7,6 +7,9 @@
 
 namespace cslam {
 
+/// `v`, or empty when it is NaN or infinite (metrics.json has no spelling for those).
+std::optional<double> Finite(double v);
+
 /// Camera section: ATE (SE(3) and Sim(3) with its scale), RPE per frame (delta 1) and all
 /// pairs (≤ 10 000, seed 42), both path lengths. Figures that cannot be computed (too few
 /// associated poses) stay empty.
