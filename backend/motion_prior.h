@@ -27,7 +27,7 @@ inline constexpr double kMotionPriorHuberChi2 = 12.59;
 /// moving-cluster solve does not estimate them); the unknowns are the body's three
 /// cam_from_body poses.
 struct MotionPriorTerm {
-  Pose world_from_cam[3];
+  Pose world_from_cam[3] = {Pose::Identity(), Pose::Identity(), Pose::Identity()};
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< in the body's frame
   double sigma_m = 0.05;    ///< of the centre's second difference, metres per frame²
   double sigma_rad = 0.01;  ///< of the change of the per-frame rotation, radians
