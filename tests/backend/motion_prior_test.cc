@@ -5,10 +5,13 @@
 #include <Eigen/Geometry>
 #include <array>
 
+#include "tests/backend/synthetic_bodies.h"
+
 namespace cslam {
 namespace {
 
 using Block = std::array<double, 7>;
+using testing::MakePose;
 
 Block ToBlock(const Pose& cam_from_body) {
   const Eigen::Quaterniond q(cam_from_body.linear());
@@ -16,29 +19,36 @@ Block ToBlock(const Pose& cam_from_body) {
   return {q.x(), q.y(), q.z(), q.w(), t.x(), t.y(), t.z()};
 }
 
-Pose Make(const Eigen::Matrix3d& r, const Eigen::Vector3d& t) {
-  Pose p = Pose::Identity();
-  p.linear() = r;
-  p.translation() = t;
-  return p;
-}
-
-Eigen::Matrix3d Yaw(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix(); }
-
 // A body whose centre moves at constant velocity while it turns at a constant rate, seen from
-// a camera that moves on its own: world_from_body_i has R_i = Yaw(ω i) R_0 and puts the centre
-// c at p_0 + v i.
+// a camera that moves on its own: world_from_body_i turns by yaw 0.03 i (pitched by 0.2) and
+// puts the centre c at p_0 + v i.
 struct Track {
   Eigen::Vector3d centre{0.4, -0.2, 1.5};
   Pose world_from_body(int i) const {
-    const Eigen::Matrix3d r = Yaw(0.03 * i) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-    const Eigen::Vector3d p = Eigen::Vector3d(2.0, 0.5, 12.0) + i * Eigen::Vector3d(0.8, 0.0, -0.3);
-    return Make(r, p - r * centre);
+    Pose pose = MakePose(0.03 * i, 0.2, Eigen::Vector3d::Zero());
+    pose.translation() = CentredAt(pose, Eigen::Vector3d(2.0, 0.5, 12.0) + i * Eigen::Vector3d(0.8, 0.0, -0.3));
+    return pose;
   }
   Pose world_from_cam(int i) const {
-    return Make(Yaw(-0.05 * i + 0.01 * i * i), Eigen::Vector3d(0.1 * i * i, 0.02 * i, 1.1 * i));
+    return MakePose(-0.05 * i + 0.01 * i * i, 0.0, Eigen::Vector3d(0.1 * i * i, 0.02 * i, 1.1 * i));
+  }
+  /// The translation that puts the centre at `p` under `pose`'s rotation.
+  Eigen::Vector3d CentredAt(const Pose& pose, const Eigen::Vector3d& p) const {
+    return p - pose.linear() * centre;
   }
 };
+
+// The term for the track's cameras, and the blocks (cam_from_body) of the given body poses.
+std::array<Block, 3> SeenByTheCameras(const Track& track, const std::array<Pose, 3>& world_from_body,
+                                      MotionPriorTerm* term) {
+  term->centre = track.centre;
+  std::array<Block, 3> blocks;
+  for (int i = 0; i < 3; ++i) {
+    term->world_from_cam[i] = track.world_from_cam(i);
+    blocks[i] = ToBlock(track.world_from_cam(i).inverse() * world_from_body[i]);
+  }
+  return blocks;
+}
 
 Eigen::Matrix<double, 6, 1> Residual(const MotionPriorTerm& term, const std::array<Block, 3>& b) {
   Eigen::Matrix<double, 6, 1> r;
@@ -49,12 +59,8 @@ Eigen::Matrix<double, 6, 1> Residual(const MotionPriorTerm& term, const std::arr
 TEST(MotionPrior, AConstantVelocityTurningBodyCostsNothingWhateverTheCameraDoes) {
   const Track track;
   MotionPriorTerm term;
-  term.centre = track.centre;
-  std::array<Block, 3> blocks;
-  for (int i = 0; i < 3; ++i) {
-    term.world_from_cam[i] = track.world_from_cam(i);
-    blocks[i] = ToBlock(track.world_from_cam(i).inverse() * track.world_from_body(i));
-  }
+  const std::array<Block, 3> blocks = SeenByTheCameras(
+      track, {track.world_from_body(0), track.world_from_body(1), track.world_from_body(2)}, &term);
   EXPECT_LT(Residual(term, blocks).norm(), 1e-9);
 }
 
@@ -77,23 +83,16 @@ TEST(MotionPrior, ATermWithoutCameraPosesTakesTheBlocksInTheWorldFrame) {
 TEST(MotionPrior, AnAccelerationAndAnExtraTurnShowUpOverTheirSigmas) {
   const Track track;
   MotionPriorTerm term;
-  term.centre = track.centre;
   term.sigma_m = 0.05;
   term.sigma_rad = 0.01;
-  std::array<Block, 3> blocks;
   const Eigen::Vector3d push(0.1, 0.0, 0.0);
   const double turn = 0.02;
-  for (int i = 0; i < 3; ++i) {
-    Pose world_from_body = track.world_from_body(i);
-    if (i == 2) {
-      // Turn about the centre (body frame) and push the centre in the world.
-      const Eigen::Vector3d p = world_from_body * track.centre + push;
-      const Eigen::Matrix3d r = world_from_body.linear() * Yaw(turn);
-      world_from_body = Make(r, p - r * track.centre);
-    }
-    term.world_from_cam[i] = track.world_from_cam(i);
-    blocks[i] = ToBlock(track.world_from_cam(i).inverse() * world_from_body);
-  }
+  // The third pose turned about the centre (body frame), the centre pushed in the world.
+  const Pose third = track.world_from_body(2);
+  Pose turned = third * MakePose(turn, 0.0, Eigen::Vector3d::Zero());
+  turned.translation() = track.CentredAt(turned, third * track.centre + push);
+  const std::array<Block, 3> blocks =
+      SeenByTheCameras(track, {track.world_from_body(0), track.world_from_body(1), turned}, &term);
   const Eigen::Matrix<double, 6, 1> r = Residual(term, blocks);
   EXPECT_NEAR((r.head<3>() - push / term.sigma_m).norm(), 0.0, 1e-9);
   // Log(Exp(a) Exp(b)) = a + b only to first order: the body's own step (0.03 rad, about a
