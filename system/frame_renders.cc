@@ -75,7 +75,8 @@ void FillSnapshot(const MapState& map, const RunInput& input, int frame,
 }  // namespace
 
 FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
-                           std::string out_dir, bool threaded, int writer_nice)
+                           std::string out_dir, bool threaded, int writer_nice,
+                           CoreReservation* reservation)
     : input_(input),
       snapshots_every_(out_dir.empty() ? 0 : options.snapshots_every),
       overlays_every_(out_dir.empty() || !input.has_images() ? 0 : options.overlays_every),
@@ -85,8 +86,9 @@ FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
     GetLogger("system")->info("overlays need input images: none for {} input", input.kind);
   if (!enabled() || !threaded) return;
   queue_ = std::make_unique<BoundedQueue<Job>>(2);
-  writer_ = std::thread([this, writer_nice] {
+  writer_ = std::thread([this, writer_nice, reservation] {
     LowerThisThreadPriorityOrWarn(writer_nice, "render writer");
+    const CoreReservation::Background background(reservation);
     while (auto job = queue_->Pop()) Draw(*job);
   });
 }

@@ -10,6 +10,7 @@
 
 #include "core/tracklet_table.h"
 #include "system/bounded_queue.h"
+#include "system/core_reservation.h"
 #include "system/map_state.h"
 #include "system/pipeline_options.h"
 #include "system/run_input.h"
@@ -28,9 +29,10 @@ struct FrameRenderStats {
 class FrameRenders {
  public:
   /// `threaded`: draw on a writer thread, its nice value raised by `writer_nice` (see
-  /// OnlineOptions::background_nice); otherwise inline, in order (sequential runs).
+  /// OnlineOptions::background_nice) and a background thread of `reservation` when given;
+  /// otherwise inline, in order (sequential runs).
   FrameRenders(const RunInput& input, const OutputOptions& options, std::string out_dir,
-               bool threaded, int writer_nice = 0);
+               bool threaded, int writer_nice = 0, CoreReservation* reservation = nullptr);
   ~FrameRenders();
   FrameRenders(const FrameRenders&) = delete;
   FrameRenders& operator=(const FrameRenders&) = delete;

@@ -16,6 +16,7 @@
 #include "core/timer.h"
 #include "system/bounded_queue.h"
 #include "system/estimate_sanity.h"
+#include "system/core_reservation.h"
 #include "system/thread_priority.h"
 #include "system/window_prior.h"
 #include "system/worker_pool.h"
@@ -74,16 +75,20 @@ class TrackingStage {
 // Runs backend windows and folds them into the map.
 class BackendStage {
  public:
-  BackendStage(const RunInput& input, const PipelineOptions& options, const BackendFunction& backend)
+  /// `reservation` (may be null): the CPU kept for each window (threaded online runs).
+  BackendStage(const RunInput& input, const PipelineOptions& options, const BackendFunction& backend,
+               CoreReservation* reservation = nullptr)
       : camera_(input.camera), options_(options),
         backend_(backend ? backend : BackendFunction(RunBackend)), map_(options.map),
         renders_(input, options.output, options.out_dir,
                  !(options.mode == "online" && options.online.sequential),
-                 options.mode == "online" ? options.online.background_nice : 0) {}
+                 options.mode == "online" ? options.online.background_nice : 0, reservation),
+        reservation_(reservation) {}
 
   /// `given` (may be null): the prior of a warm-started batch call (built from another map).
   WindowStats Process(const TrackletTable& window_table, FrameRange range,
                       const WindowPrior* given = nullptr) {
+    const CoreReservation::Scope reserved(reservation_);
     WindowStats stats;
     stats.range = range;
     Timer timer;
@@ -152,6 +157,7 @@ class BackendStage {
   BackendFunction backend_;
   MapState map_;
   FrameRenders renders_;
+  CoreReservation* reservation_;
   std::optional<BackendResult> last_result_;
 };
 
@@ -430,7 +436,7 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
 
 PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& options,
                                  const std::atomic<bool>* stop, const ProgressCallback& progress,
-                                 const BackendFunction& backend_fn) {
+                                 const BackendFunction& backend_fn, CoreReservation* reservation) {
   PipelineResult out;
   const int n = input.num_frames();
   const OnlineOptions& online = options.online;
@@ -438,7 +444,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   BoundedQueue<WindowJob> jobs(online.window_queue);
   TrackingStage tracking(input, options.frontend);
   if (MayForget(input, online)) tracking.EnableForgetting(online.window_frames + online.window_every);
-  BackendStage backend(input, options, backend_fn);
+  BackendStage backend(input, options, backend_fn, reservation);
   std::exception_ptr reader_error, frontend_error, backend_error;
   std::atomic<bool> abort{false};
   auto stopping = [&] { return abort.load() || StopRequested(stop); };
@@ -446,6 +452,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
 
   std::thread reader([&] {
     LowerThisThreadPriorityOrWarn(online.background_nice, "reader");
+    const CoreReservation::Background background(reservation);
     try {
       Pacer pacer(input.timestamps);
       for (int f = 0; f < n && !stopping(); ++f) {
@@ -462,6 +469,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   ResourceSampler sampler(kResourceSampleEvery);
   std::thread frontend([&] {
     LowerThisThreadPriorityOrWarn(online.background_nice, "frontend");
+    const CoreReservation::Background background(reservation);
     WindowScheduler windows(online);
     try {
       bool backend_gone = false;
@@ -631,8 +639,14 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   PipelineResult out;
   PipelineOptions options = given;
   BundleAdjustmentOptions& ba = options.backend.motion.bundle_adjustment;
+  // Threaded online runs keep a CPU for each window; its helpers run on the others. Shared,
+  // since the pool (and its hook) lives in the options.
+  const bool threaded = options.mode != "batch" && !options.online.sequential;
+  const auto reservation =
+      std::make_shared<CoreReservation>(threaded && options.online.reserve_core);
   if (options.backend_threads > 1 && !ba.runner)
-    ba.runner = std::make_shared<WorkerPool>(options.backend_threads);
+    ba.runner = std::make_shared<WorkerPool>(options.backend_threads,
+                                             [reservation] { reservation->JoinBackground(); });
   // The self-calibration wraps the backend call (system/disparity_offset_calibration.h).
   const BackendFunction chosen =
       options.method == "true-labels" ? TrueLabelsBackend(input) : backend;
@@ -648,7 +662,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   } else if (options.online.sequential) {
     out = RunOnlineSequential(input, options, stop, progress, call);
   } else {
-    out = RunOnlineThreaded(input, options, stop, progress, call);
+    out = RunOnlineThreaded(input, options, stop, progress, call, reservation.get());
   }
   out.disparity_offset = calibrator.Record();
   out.total_s = timer.ElapsedS();

@@ -27,6 +27,7 @@ void OnlineOptions::Load(OptionsReader& r) {
   r.Read("realtime", &realtime);
   r.Read("sequential", &sequential);
   r.Read("background_nice", &background_nice);
+  r.Read("reserve_core", &reserve_core);
   r.Read("min_shared_landmarks", &min_shared_landmarks);
   r.Read("forget_observations", &forget_observations);
   r.Finish();

@@ -32,6 +32,12 @@ struct OnlineOptions {
   /// Measured on KITTI raw 0005 (docs/benchmarks.md, "Window latency"): 10 brings the median
   /// window from 53 to 45 ms wall with the same run time and identical outputs.
   int background_nice = 10;
+  /// [ours] While a window runs, keep the CPU it runs on for it: the reader, the frontend,
+  /// the render writer and the window's own helper threads move to the other CPUs, and get
+  /// every CPU back between windows (system/core_reservation.h). Threaded online runs only;
+  /// nothing to keep on one CPU. Same outputs. Measured on the demo's sequence
+  /// (docs/benchmarks.md, "A core for the window").
+  bool reserve_core = true;
   /// Consecutive frames sharing fewer landmarks than this are a tracking break (black or
   /// textureless frames, a jump): no window spans one; the map chains across it as a gap.
   int min_shared_landmarks = 5;

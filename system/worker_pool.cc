@@ -6,13 +6,15 @@
 #include <exception>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/errors.h"
 
 namespace cslam {
 
-WorkerPool::WorkerPool(int threads) : threads_(threads) {
+WorkerPool::WorkerPool(int threads, std::function<void()> on_helper_start)
+    : threads_(threads), on_helper_start_(std::move(on_helper_start)) {
   CSLAM_CHECK(threads >= 1, "WorkerPool needs at least one thread");
 }
 
@@ -36,6 +38,7 @@ void WorkerPool::Run(int n, const std::function<void(int)>& task) const {
     std::vector<std::jthread> helpers;
     for (int t = 1; t < std::min(threads_, n); ++t)
       helpers.emplace_back([&] {
+        if (on_helper_start_) on_helper_start_();
         work();
         // The thread was started for this batch, so its CPU clock is its share of the work.
         timespec ts{};

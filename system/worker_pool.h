@@ -1,6 +1,7 @@
 #pragma once
 // The threads behind the backend's TaskRunner (core/task_runner.h).
 #include <atomic>
+#include <functional>
 
 #include "core/task_runner.h"
 
@@ -13,14 +14,16 @@ namespace cslam {
 /// nothing to shut down.
 class WorkerPool final : public TaskRunner {
  public:
-  /// `threads` ≥ 1 (1: every task on the caller's thread).
-  explicit WorkerPool(int threads);
+  /// `threads` ≥ 1 (1: every task on the caller's thread). `on_helper_start`, if set, runs
+  /// first on every started thread (system/core_reservation.h moves it off a reserved CPU).
+  explicit WorkerPool(int threads, std::function<void()> on_helper_start = {});
   int threads() const { return threads_; }
   void Run(int n, const std::function<void(int)>& task) const override;
   double HelperCpuMs() const override { return helper_cpu_us_.load() * 1e-3; }
 
  private:
   int threads_;
+  std::function<void()> on_helper_start_;
   mutable std::atomic<long long> helper_cpu_us_{0};  // summed over the started threads' lives
 };
 

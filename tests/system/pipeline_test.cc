@@ -64,6 +64,26 @@ TEST(Pipeline, ThreadedOnlineRunEqualsTheSequentialOne) {
   EXPECT_LT(seq.table.num_observations(), in.observations->num_observations());
 }
 
+TEST(Pipeline, KeepingACoreForTheWindowChangesNoResult) {
+  // online.reserve_core only moves threads between CPUs (system/core_reservation.h).
+  const RunInput in = SmallSyntheticInput();
+  PipelineOptions kept = OnlineOptionsFor(false), shared = OnlineOptionsFor(false);
+  kept.online.reserve_core = true;
+  shared.online.reserve_core = false;
+  const PipelineResult a = RunPipeline(in, kept);
+  const PipelineResult b = RunPipeline(in, shared);
+  ASSERT_FALSE(a.error);
+  ASSERT_FALSE(b.error);
+  ASSERT_EQ(a.map.num_frames(), 40);
+  ASSERT_EQ(b.map.num_frames(), 40);
+  for (int f = 0; f < 40; ++f)
+    EXPECT_TRUE(testing::PoseNear(*a.map.world_from_cam()[f], *b.map.world_from_cam()[f], 1e-12,
+                                  1e-12))
+        << f;
+  ASSERT_EQ(a.map.Landmarks(), b.map.Landmarks());
+  for (int l : a.map.Landmarks()) EXPECT_EQ(a.map.ClusterOf(l), b.map.ClusterOf(l)) << l;
+}
+
 TEST(Pipeline, ForgettingOldObservationsChangesNoResult) {
   const RunInput in = SmallSyntheticInput();
   PipelineOptions keep = OnlineOptionsFor(true);
