@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include "core/errors.h"
@@ -13,6 +14,22 @@ OptionsReader::OptionsReader(YAML::Node node, std::string source, std::string pa
   if (node_ && !node_.IsNull() && !node_.IsMap())
     throw ConfigError(source_ + ": " + (path_.empty() ? "the document" : path_) +
                       " must be a mapping of key: value");
+  // YAML parsers keep both entries of a repeated key and lookups see only the first, so a
+  // second `online:` section (or key) would be ignored without a word.
+  if (node_ && node_.IsMap()) {
+    std::map<std::string, int> first_line;
+    for (const auto& entry : node_) {
+      if (!entry.first.IsScalar()) continue;
+      const std::string key = entry.first.Scalar();
+      const int line = entry.first.Mark().line + 1;
+      const auto [it, fresh] = first_line.emplace(key, line);
+      if (!fresh)
+        throw ConfigError(source_ + ":" + std::to_string(line) + ": " +
+                          (path_.empty() ? key : path_ + "." + key) +
+                          " given twice (first on line " + std::to_string(it->second) +
+                          "); merge the two into one");
+    }
+  }
 }
 
 OptionsReader OptionsReader::FromFile(const std::string& file) {

@@ -274,6 +274,11 @@ TEST_F(CliConfig, NiceIncrementOutsideTheKernelsRange) {
                  config().string() + ": online.background_nice: must be in [0, 19]");
 }
 
+TEST_F(CliConfig, KeyGivenTwice) {
+  const auto r = RunWithConfig("online:\n  window_every: 5\nonline:\n  window_every: 7\n");
+  ExpectRejected(r, kExitConfigError, config().string() + ":3: online given twice (first on line 1)");
+}
+
 TEST_F(CliConfig, NotYaml) {
   ExpectRejected(RunWithConfig("online: [1, 2\n"), kExitConfigError, config().string() + ":2: not valid YAML");
 }

@@ -63,6 +63,21 @@ TEST(OptionsReader, ANonScalarKeyIsAnUnknownKeyNotACrash) {
   EXPECT_NE(msg.find("cfg.yaml: unknown key: <non-scalar key on line 2>"), std::string::npos) << msg;
 }
 
+TEST(OptionsReader, AKeyGivenTwiceIsAnErrorNamingBothLines) {
+  // A second section of the same name used to be ignored without a word: the first wins.
+  const std::string top = MessageOf([] {
+    OptionsReader::FromString("online:\n  window_every: 5\noutput: {}\nonline:\n  reserve_core: false\n",
+                              "cfg.yaml");
+  });
+  EXPECT_NE(top.find("cfg.yaml:4: online given twice (first on line 1)"), std::string::npos) << top;
+  // Inside a section, when the section is opened.
+  auto r = OptionsReader::FromString("online:\n  window_every: 5\n  window_every: 7\n", "cfg.yaml");
+  const std::string nested = MessageOf([&] { r.Section("online"); });
+  EXPECT_NE(nested.find("cfg.yaml:3: online.window_every given twice (first on line 2)"),
+            std::string::npos)
+      << nested;
+}
+
 TEST(OptionsReader, WrongTypeNamesTheKey) {
   auto r = OptionsReader::FromString("hac: {epsilon: lots}\n", "cfg.yaml");
   auto hac = r.Section("hac");
