@@ -34,14 +34,14 @@ CoreReservation::Background::~Background() {
 }
 
 CoreReservation::Scope::Scope(CoreReservation* reservation) : reservation_(reservation) {
-  if (reservation_ && reservation_->enabled_) reservation_->Begin(gettid());
+  if (reservation_ && reservation_->enabled_) reservation_->Begin();
 }
 
 CoreReservation::Scope::~Scope() {
-  if (reservation_ && reservation_->enabled_) reservation_->End(gettid());
+  if (reservation_ && reservation_->enabled_) reservation_->End();
 }
 
-void CoreReservation::Begin(pid_t owner) {
+void CoreReservation::Begin() {
   const int cpu = sched_getcpu();
   const std::lock_guard<std::mutex> lock(mutex_);
   if (reserved_ >= 0 || cpu < 0 || !CPU_ISSET(cpu, &allowed_)) return;
@@ -51,16 +51,16 @@ void CoreReservation::Begin(pid_t owner) {
   cpu_set_t mine;
   CPU_ZERO(&mine);
   CPU_SET(cpu, &mine);
-  SetAffinity(owner, mine);
+  SetAffinity(0, mine);
   // Registered threads hold the mutex to unregister, so none of these ids has exited.
   for (pid_t tid : background_threads_) SetAffinity(tid, background_);
 }
 
-void CoreReservation::End(pid_t owner) {
+void CoreReservation::End() {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (reserved_ < 0) return;
   reserved_ = -1;
-  SetAffinity(owner, allowed_);
+  SetAffinity(0, allowed_);
   for (pid_t tid : background_threads_) SetAffinity(tid, allowed_);
 }
 

@@ -62,8 +62,9 @@ class CoreReservation {
   int reserved_cpu() const;
 
  private:
-  void Begin(pid_t owner);
-  void End(pid_t owner);
+  // Called on the owner's thread (by Scope).
+  void Begin();
+  void End();
 
   bool enabled_ = false;
   cpu_set_t allowed_;     // the process's CPUs when constructed

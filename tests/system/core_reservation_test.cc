@@ -27,7 +27,7 @@ cpu_set_t Allowed() { return AffinityOf(0); }
 
 bool SameSet(const cpu_set_t& a, const cpu_set_t& b) { return CPU_EQUAL(&a, &b); }
 
-/// A thread that registers as background, then runs what the test hands it, until stopped.
+/// A thread that registers as background and waits until the test ends it.
 class BackgroundThread {
  public:
   explicit BackgroundThread(CoreReservation* reservation)
