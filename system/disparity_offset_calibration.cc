@@ -1,7 +1,11 @@
 #include "system/disparity_offset_calibration.h"
 
+#include <Eigen/Core>
 #include <cmath>
+#include <limits>
 #include <utility>
+
+#include <spdlog/fmt/fmt.h>
 
 #include "core/errors.h"
 #include "core/logging.h"
@@ -19,6 +23,9 @@ void CalibrationOptions::Check() const {
   CheckOption(disparity_offset_min_px >= 0 && std::isfinite(disparity_offset_min_px),
               "calibration.disparity_offset_min_px", "must be finite and >= 0 px",
               disparity_offset_min_px);
+  CheckOption(disparity_offset_max_yaw_rate > 0 && !std::isnan(disparity_offset_max_yaw_rate),
+              "calibration.disparity_offset_max_yaw_rate",
+              "must be > 0 rad/s (.inf turns the check off)", disparity_offset_max_yaw_rate);
   try {
     disparity_offset.Check();
   } catch (const ConfigError& e) {
@@ -31,15 +38,33 @@ void CalibrationOptions::Load(OptionsReader& r) {
   r.Read("disparity_offset_frames", &disparity_offset_frames);
   r.Read("disparity_offset_min_sigmas", &disparity_offset_min_sigmas);
   r.Read("disparity_offset_min_px", &disparity_offset_min_px);
+  r.Read("disparity_offset_max_yaw_rate", &disparity_offset_max_yaw_rate);
   auto section = r.Section("disparity_offset");
   disparity_offset.Load(section);
   section.Finish();
   r.Finish();
 }
 
+double MeanYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,
+                   const std::vector<double>& timestamps) {
+  const int n = static_cast<int>(world_from_cam.size());
+  if (n < 2 || n != range.size() || range.begin < 0 ||
+      range.end > static_cast<int>(timestamps.size()))
+    return std::numeric_limits<double>::quiet_NaN();
+  const double dt = timestamps[range.end - 1] - timestamps[range.begin];
+  if (!(dt > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Matrix3d r = (world_from_cam.front().linear().transpose() *
+                             world_from_cam.back().linear());
+  // The last camera's forward axis in the first camera's frame; turning left (towards −x)
+  // is a positive rotation about −y.
+  const double yaw = std::atan2(-r(0, 2), r(2, 2));
+  return yaw / dt;
+}
+
 DisparityOffsetCalibrator::DisparityOffsetCalibrator(const CalibrationOptions& options,
-                                                     CalibratedBackend inner)
-    : options_(options), inner_(std::move(inner)) {}
+                                                     CalibratedBackend inner,
+                                                     std::vector<double> timestamps)
+    : options_(options), inner_(std::move(inner)), timestamps_(std::move(timestamps)) {}
 
 BackendResult DisparityOffsetCalibrator::operator()(const TrackletTable& table,
                                                     const StereoCamera& camera, FrameRange range,
@@ -75,6 +100,14 @@ DisparityOffsetCalibration DisparityOffsetCalibrator::Calibrate(
   auto log = GetLogger("system");
   if (m.range != record.frames || static_cast<int>(m.world_from_cam.size()) != m.range.size()) {
     record.decision = "no camera motion over the calibration frames";
+  } else if (record.yaw_rate = MeanYawRate(m.world_from_cam, record.frames, timestamps_);
+             std::abs(record.yaw_rate) > options_.disparity_offset_max_yaw_rate) {
+    // Not estimated: it would measure the exposures' timing as much as the pair (see the
+    // option's comment).
+    record.decision = fmt::format(
+        "not estimated: the camera turned at {:+.3f} rad/s over these frames (max_yaw_rate "
+        "{:.3f}); a left/right exposure offset would look like a disparity offset",
+        record.yaw_rate, options_.disparity_offset_max_yaw_rate);
   } else {
     record.estimate = EstimateDisparityOffset(table, camera, record.frames, m.world_from_cam,
                                               options_.disparity_offset, m.landmark_cluster);
@@ -94,10 +127,10 @@ DisparityOffsetCalibration DisparityOffsetCalibrator::Calibrate(
   }
   record.seconds = timer.ElapsedS();
   const DisparityOffset& d = record.estimate;
-  log->info("disparity offset over frames {}..{}: {:+.4f} ± {:.4f} px ({} landmarks, {} "
-            "observations, {:.1f} s): {}",
-            record.frames.begin, record.frames.end - 1, d.offset_px, d.sigma_px, d.landmarks,
-            d.observations, record.seconds, record.decision);
+  log->info("disparity offset over frames {}..{} (yaw rate {:+.3f} rad/s): {:+.4f} ± {:.4f} px "
+            "({} landmarks, {} observations, {:.1f} s): {}",
+            record.frames.begin, record.frames.end - 1, record.yaw_rate, d.offset_px, d.sigma_px,
+            d.landmarks, d.observations, record.seconds, record.decision);
   return record;
 }
 

@@ -11,8 +11,10 @@
 // on the corrected observations. Every later call is corrected by the same δ. The frontend's
 // table itself is left as measured (its outputs, overlays, the sanity check's χ² by 0.1 px).
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "backend/backend_result.h"
 #include "backend/disparity_offset.h"
@@ -38,6 +40,14 @@ struct CalibrationOptions {
   /// ground truth is ±0.02–0.03 px (docs/frontend.md), so a smaller δ is not a calibration
   /// error one can tell from it.
   double disparity_offset_min_px = 0.03;
+  /// δ is not estimated when the camera's heading changes faster than this over the
+  /// calibration frames, rad/s (mean: the net change of yaw over their time span). Why: a
+  /// time offset between the left and right exposures shifts every right column by
+  /// f·ω·Δt, a disparity offset that follows the yaw rate ω. On KITTI raw 0005 the estimate
+  /// swung from −0.47 to +0.46 px with the turns, ≈ −1.66 px per rad/s (docs/benchmarks.md,
+  /// "The disparity offset follows the yaw rate"); below 0.015 rad/s that is < 0.025 px,
+  /// under min_px.
+  double disparity_offset_max_yaw_rate = 0.015;
   /// The estimator's own options (section calibration.disparity_offset).
   DisparityOffsetOptions disparity_offset;
 
@@ -50,6 +60,9 @@ struct CalibrationOptions {
 struct DisparityOffsetCalibration {
   FrameRange frames;          ///< the frames δ was estimated over
   DisparityOffset estimate;   ///< δ, σ and the solve's counts
+  /// Mean yaw rate of the starting motion over `frames`, rad/s (+ = heading turning left,
+  /// about the camera's −y); NaN when the motion or the frame times are missing.
+  double yaw_rate = std::numeric_limits<double>::quiet_NaN();
   bool applied = false;       ///< the backend was given corrected observations
   double applied_px = 0.0;    ///< δ applied (0 when not)
   std::string decision;       ///< why it was or was not applied
@@ -61,11 +74,20 @@ using CalibratedBackend =
     std::function<BackendResult(const TrackletTable&, const StereoCamera&, FrameRange,
                                 const PipelineOptions&, const WindowPrior*)>;
 
+/// Mean yaw rate (rad/s, + = turning left) between the first and the last of
+/// `world_from_cam` (camera x right, y down, z forward): the net rotation about the first
+/// camera's y axis, over timestamps[range.end − 1] − timestamps[range.begin]. NaN when there
+/// are fewer than two poses, the times do not cover `range` or do not increase.
+double MeanYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,
+                   const std::vector<double>& timestamps);
+
 /// Wraps `inner` (the run's backend call) with the calibration of options.calibration.
 /// Calls come from one thread at a time (the backend stage); Record() is read after the run.
 class DisparityOffsetCalibrator {
  public:
-  DisparityOffsetCalibrator(const CalibrationOptions& options, CalibratedBackend inner);
+  /// `timestamps`: seconds per frame of the run (for the yaw-rate check).
+  DisparityOffsetCalibrator(const CalibrationOptions& options, CalibratedBackend inner,
+                            std::vector<double> timestamps = {});
 
   /// The first call estimates δ (see the file comment); every call runs `inner` on the
   /// observations corrected by the δ applied.
@@ -84,6 +106,7 @@ class DisparityOffsetCalibrator {
 
   const CalibrationOptions& options_;
   CalibratedBackend inner_;
+  std::vector<double> timestamps_;
   std::optional<DisparityOffsetCalibration> record_;
 };
 

@@ -99,7 +99,9 @@ nlohmann::json ToJson(const RunMetrics& m) {
       {"disparity_offset_px", Value(m.calibration.disparity_offset_px)},
       {"disparity_offset_sigma_px", Value(m.calibration.disparity_offset_sigma_px)},
       {"disparity_offset_applied_px", Value(m.calibration.disparity_offset_applied_px)},
-      {"disparity_offset_frames", Value(m.calibration.disparity_offset_frames)}};
+      {"disparity_offset_frames", Value(m.calibration.disparity_offset_frames)},
+      {"disparity_offset_yaw_rate", Value(m.calibration.disparity_offset_yaw_rate)},
+      {"disparity_offset_decision", Value(m.calibration.disparity_offset_decision)}};
   j["ground_truth"] = {
       {"cross_check", Value(m.ground_truth.cross_check)},
       {"position_accuracy_median_m", Value(m.ground_truth.position_accuracy_median_m)},
@@ -198,6 +200,8 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     Read(ca, "disparity_offset_sigma_px", m.calibration.disparity_offset_sigma_px);
     Read(ca, "disparity_offset_applied_px", m.calibration.disparity_offset_applied_px);
     Read(ca, "disparity_offset_frames", m.calibration.disparity_offset_frames);
+    Read(ca, "disparity_offset_yaw_rate", m.calibration.disparity_offset_yaw_rate);
+    Read(ca, "disparity_offset_decision", m.calibration.disparity_offset_decision);
     const json& g = Child(j, "ground_truth");
     Read(g, "cross_check", m.ground_truth.cross_check);
     Read(g, "position_accuracy_median_m", m.ground_truth.position_accuracy_median_m);

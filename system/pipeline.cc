@@ -650,7 +650,8 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   // The self-calibration wraps the backend call (system/disparity_offset_calibration.h).
   const BackendFunction chosen =
       options.method == "true-labels" ? TrueLabelsBackend(input) : backend;
-  DisparityOffsetCalibrator calibrator(options.calibration, chosen ? chosen : BackendFunction(RunBackend));
+  DisparityOffsetCalibrator calibrator(options.calibration, chosen ? chosen : BackendFunction(RunBackend),
+                                       input.timestamps);
   const BackendFunction calibrated = [&calibrator](const TrackletTable& t, const StereoCamera& c,
                                                    FrameRange r, const PipelineOptions& o,
                                                    const WindowPrior* prior) {

@@ -288,6 +288,8 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
       m.calibration.disparity_offset_sigma_px = d->estimate.sigma_px;
     }
     m.calibration.disparity_offset_applied_px = d->applied_px;
+    if (std::isfinite(d->yaw_rate)) m.calibration.disparity_offset_yaw_rate = d->yaw_rate;
+    m.calibration.disparity_offset_decision = d->decision;
   }
   return m;
 }

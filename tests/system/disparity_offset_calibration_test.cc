@@ -16,11 +16,15 @@ namespace {
 // A static street (tests/backend/test_scene.h: points 4–80 m ahead, the camera driving 1 m a
 // frame, 0.3 px noise) with every right column moved by `shift` px, so the δ that undoes it
 // is +shift. Static on purpose: on the generator's outdoor scenes with moving bodies the
-// estimate is not yet reliable (docs/backend.md, "Disparity offset").
-RunInput ShiftedStreet(double shift) {
+// estimate is not yet reliable (docs/backend.md, "Disparity offset"). The camera turns right by
+// `yaw_per_frame` rad a frame at 10 frames/s; the default, 0.01 rad/s, is within the
+// calibration's max_yaw_rate.
+RunInput ShiftedStreet(double shift, double yaw_per_frame = 0.001) {
   const auto body = testing::TestBody{testing::RandomPoints(600, {-15, -3, 4}, {15, 3, 80}, 7),
                                       [](int) { return Pose::Identity(); }};
-  auto cam = [](int t) { return testing::YawPose(0.01 * t, Eigen::Vector3d(0.1 * t, 0, 1.0 * t)); };
+  auto cam = [yaw_per_frame](int t) {
+    return testing::YawPose(yaw_per_frame * t, Eigen::Vector3d(0.1 * t, 0, 1.0 * t));
+  };
   const testing::TestScene scene =
       testing::MakeScene(testing::SyntheticCamera(true), {body}, 36, cam, 0.3, 0.3, 8);
   RunInput in;
@@ -95,6 +99,48 @@ TEST(DisparityOffsetCalibrator, LeavesTheObservationsAloneWhenThereIsNoOffset) {
   EXPECT_EQ(cal.applied_px, 0.0);
 }
 
+// A turn with a left/right exposure offset Δt: every right column moves by f·ω·Δt while the
+// camera turns at ω, which the estimator cannot tell from a disparity offset of the pair. Here
+// ω = 0.1 rad/s and Δt = 2.3 ms (what KITTI raw 0005 shows, docs/benchmarks.md): 0.17 px
+// that would be applied to every later frame, turning or not.
+TEST(DisparityOffsetCalibrator, DoesNotEstimateWhileTheCameraTurns) {
+  const double shift = testing::SyntheticCamera(true).fx * 0.1 * 0.0023;
+  const RunInput in = ShiftedStreet(shift, 0.01);
+  PipelineOptions o = CalibratingOnline();
+  const PipelineResult r = RunPipeline(in, o);
+  ASSERT_TRUE(r.disparity_offset.has_value());
+  const DisparityOffsetCalibration& cal = *r.disparity_offset;
+  std::printf("yaw rate %+.4f rad/s: %s\n", cal.yaw_rate, cal.decision.c_str());
+  EXPECT_FALSE(cal.applied);
+  EXPECT_EQ(cal.applied_px, 0.0);
+  EXPECT_FALSE(cal.estimate.usable);
+  EXPECT_NE(cal.decision.find("turned"), std::string::npos) << cal.decision;
+  // Turning right (about +y): a negative yaw rate, from the backend's own motion.
+  EXPECT_NEAR(cal.yaw_rate, -0.1, 0.01);
+
+  // The check, not the data, stopped it: allowed to, it applies what the turn made.
+  o.calibration.disparity_offset_max_yaw_rate = 1.0;
+  const PipelineResult allowed = RunPipeline(in, o);
+  ASSERT_TRUE(allowed.disparity_offset.has_value());
+  EXPECT_TRUE(allowed.disparity_offset->applied) << allowed.disparity_offset->decision;
+  EXPECT_NEAR(allowed.disparity_offset->applied_px, shift, 0.03);
+}
+
+TEST(MeanYawRate, IsTheNetHeadingChangeOverTheFramesTime) {
+  // Turning left (forward axis towards −x) at 0.2 rad/s for 2 s, frames 10..30 of a run.
+  std::vector<Pose> poses;
+  std::vector<double> times(40);
+  for (int f = 0; f < 40; ++f) times[f] = 5.0 + 0.1 * f;
+  for (int f = 10; f < 31; ++f)
+    poses.push_back(testing::YawPose(-0.02 * (f - 10) + 0.3, Eigen::Vector3d(f, 0, 2 * f)));
+  EXPECT_NEAR(MeanYawRate(poses, {10, 31}, times), 0.2, 1e-9);
+  for (Pose& p : poses) p.linear() = p.linear().transpose().eval();  // the mirrored turn
+  EXPECT_NEAR(MeanYawRate(poses, {10, 31}, times), -0.2, 1e-9);
+  EXPECT_TRUE(std::isnan(MeanYawRate(poses, {10, 31}, std::vector<double>(20, 0.0))));
+  EXPECT_TRUE(std::isnan(MeanYawRate(poses, {10, 31}, std::vector<double>(40, 1.0))));
+  EXPECT_TRUE(std::isnan(MeanYawRate({poses[0]}, {10, 11}, times)));
+}
+
 TEST(DisparityOffsetCalibrator, IsNotRunWhenSwitchedOff) {
   PipelineOptions o = CalibratingOnline();
   o.calibration.estimate_disparity_offset = false;
@@ -112,6 +158,15 @@ TEST(CalibrationOptions, CheckNamesTheBadKey) {
     FAIL() << "accepted 2 frames";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("calibration.disparity_offset_frames"), std::string::npos);
+  }
+  o = {};
+  o.disparity_offset_max_yaw_rate = 0;
+  try {
+    o.Check();
+    FAIL() << "accepted a zero max_yaw_rate";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibration.disparity_offset_max_yaw_rate"),
+              std::string::npos);
   }
   o = {};
   o.disparity_offset.robust_threshold_chi2 = -1;

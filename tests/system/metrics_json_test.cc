@@ -70,6 +70,8 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   m.calibration.disparity_offset_sigma_px = 0.008;
   m.calibration.disparity_offset_applied_px = 0.172;
   m.calibration.disparity_offset_frames = 30;
+  m.calibration.disparity_offset_yaw_rate = -0.004;
+  m.calibration.disparity_offset_decision = "applied";
   m.ground_truth.cross_check = "OXTS velocities integrated";
   m.ground_truth.cross_check_ate_sim3_m = 0.355;
   m.ground_truth.camera_sim3_scale_vs_cross_check = 0.989;
@@ -91,6 +93,8 @@ TEST(MetricsJson, RoundTripsThroughAFile) {
   EXPECT_EQ(r.landmarks.count, 3700);
   EXPECT_EQ(r.calibration.disparity_offset_applied_px, 0.172);
   EXPECT_EQ(r.calibration.disparity_offset_frames, 30);
+  EXPECT_EQ(r.calibration.disparity_offset_yaw_rate, -0.004);
+  EXPECT_EQ(r.calibration.disparity_offset_decision, "applied");
   EXPECT_DOUBLE_EQ(j["calibration"]["disparity_offset_sigma_px"].get<double>(), 0.008);
   EXPECT_EQ(r.ground_truth.cross_check, "OXTS velocities integrated");
   EXPECT_EQ(r.ground_truth.cross_check_ate_sim3_m, 0.355);
