@@ -1,6 +1,7 @@
 #include "system/disparity_offset_calibration.h"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -26,6 +27,9 @@ void CalibrationOptions::Check() const {
   CheckOption(disparity_offset_max_yaw_rate > 0 && !std::isnan(disparity_offset_max_yaw_rate),
               "calibration.disparity_offset_max_yaw_rate",
               "must be > 0 rad/s (.inf turns the check off)", disparity_offset_max_yaw_rate);
+  CheckOption(disparity_offset_yaw_span_s > 0 && std::isfinite(disparity_offset_yaw_span_s),
+              "calibration.disparity_offset_yaw_span_s", "must be finite and > 0 s",
+              disparity_offset_yaw_span_s);
   try {
     disparity_offset.Check();
   } catch (const ConfigError& e) {
@@ -39,26 +43,40 @@ void CalibrationOptions::Load(OptionsReader& r) {
   r.Read("disparity_offset_min_sigmas", &disparity_offset_min_sigmas);
   r.Read("disparity_offset_min_px", &disparity_offset_min_px);
   r.Read("disparity_offset_max_yaw_rate", &disparity_offset_max_yaw_rate);
+  r.Read("disparity_offset_yaw_span_s", &disparity_offset_yaw_span_s);
   auto section = r.Section("disparity_offset");
   disparity_offset.Load(section);
   section.Finish();
   r.Finish();
 }
 
-double MeanYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,
-                   const std::vector<double>& timestamps) {
+double PeakYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,
+                   const std::vector<double>& timestamps, double min_span_s) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
   const int n = static_cast<int>(world_from_cam.size());
   if (n < 2 || n != range.size() || range.begin < 0 ||
       range.end > static_cast<int>(timestamps.size()))
-    return std::numeric_limits<double>::quiet_NaN();
-  const double dt = timestamps[range.end - 1] - timestamps[range.begin];
-  if (!(dt > 0)) return std::numeric_limits<double>::quiet_NaN();
-  const Eigen::Matrix3d r = (world_from_cam.front().linear().transpose() *
-                             world_from_cam.back().linear());
-  // The last camera's forward axis in the first camera's frame; turning left (towards −x)
-  // is a positive rotation about −y.
-  const double yaw = std::atan2(-r(0, 2), r(2, 2));
-  return yaw / dt;
+    return nan;
+  const auto time = [&](int i) { return timestamps[range.begin + i]; };
+  for (int i = 0; i + 1 < n; ++i)
+    if (!(time(i + 1) > time(i))) return nan;
+  const auto rate = [&](int i, int j) {
+    const Eigen::Matrix3d r = world_from_cam[i].linear().transpose() * world_from_cam[j].linear();
+    // The later camera's forward axis in the earlier one's frame; turning left (towards −x)
+    // is a positive rotation about −y.
+    return std::atan2(-r(0, 2), r(2, 2)) / (time(j) - time(i));
+  };
+  double peak = 0.0;
+  bool any = false;
+  for (int i = 0, j = 1; i + 1 < n; ++i) {
+    j = std::max(j, i + 1);
+    while (j < n && time(j) - time(i) < min_span_s) ++j;
+    if (j == n) break;
+    const double w = rate(i, j);
+    if (!any || std::abs(w) > std::abs(peak)) peak = w;
+    any = true;
+  }
+  return any ? peak : rate(0, n - 1);
 }
 
 DisparityOffsetCalibrator::DisparityOffsetCalibrator(const CalibrationOptions& options,
@@ -100,12 +118,13 @@ DisparityOffsetCalibration DisparityOffsetCalibrator::Calibrate(
   auto log = GetLogger("system");
   if (m.range != record.frames || static_cast<int>(m.world_from_cam.size()) != m.range.size()) {
     record.decision = "no camera motion over the calibration frames";
-  } else if (record.yaw_rate = MeanYawRate(m.world_from_cam, record.frames, timestamps_);
+  } else if (record.yaw_rate = PeakYawRate(m.world_from_cam, record.frames, timestamps_,
+                                            options_.disparity_offset_yaw_span_s);
              std::abs(record.yaw_rate) > options_.disparity_offset_max_yaw_rate) {
     // Not estimated: it would measure the exposures' timing as much as the pair (see the
     // option's comment).
     record.decision = fmt::format(
-        "not estimated: the camera turned at {:+.3f} rad/s over these frames (max_yaw_rate "
+        "not estimated: the camera turned at {:+.3f} rad/s in these frames (max_yaw_rate "
         "{:.3f}); a left/right exposure offset would look like a disparity offset",
         record.yaw_rate, options_.disparity_offset_max_yaw_rate);
   } else {

@@ -40,14 +40,20 @@ struct CalibrationOptions {
   /// ground truth is ±0.02–0.03 px (docs/frontend.md), so a smaller δ is not a calibration
   /// error one can tell from it.
   double disparity_offset_min_px = 0.03;
-  /// δ is not estimated when the camera's heading changes faster than this over the
-  /// calibration frames, rad/s (mean: the net change of yaw over their time span). Why: a
+  /// δ is not estimated when the camera's heading changes faster than this anywhere in the
+  /// calibration frames, rad/s (PeakYawRate over spans of yaw_span_s). Why: a
   /// time offset between the left and right exposures shifts every right column by
   /// f·ω·Δt, a disparity offset that follows the yaw rate ω. On KITTI raw 0005 the estimate
   /// swung from −0.47 to +0.46 px with the turns, ≈ −1.66 px per rad/s (docs/benchmarks.md,
   /// "The disparity offset follows the yaw rate"); below 0.015 rad/s that is < 0.025 px,
   /// under min_px.
   double disparity_offset_max_yaw_rate = 0.015;
+  /// Shortest span, s, the yaw rate is measured over. Not frame to frame: the estimated
+  /// motion's per-frame yaw is noisy (KITTI odometry clip_a, driving straight: up to
+  /// 0.023 rad/s frame to frame, ≤ 0.010 rad/s over 1 s, the ground truth's ≤ 0.008). The
+  /// largest over every span, not their mean: over an S-bend the mean is ≈ 0 while either
+  /// half biases δ (raw 0005 frames 50–79: net −0.007 rad/s, δ +0.16 px).
+  double disparity_offset_yaw_span_s = 1.0;
   /// The estimator's own options (section calibration.disparity_offset).
   DisparityOffsetOptions disparity_offset;
 
@@ -60,8 +66,8 @@ struct CalibrationOptions {
 struct DisparityOffsetCalibration {
   FrameRange frames;          ///< the frames δ was estimated over
   DisparityOffset estimate;   ///< δ, σ and the solve's counts
-  /// Mean yaw rate of the starting motion over `frames`, rad/s (+ = heading turning left,
-  /// about the camera's −y); NaN when the motion or the frame times are missing.
+  /// Largest yaw rate of the starting motion over `frames` (PeakYawRate), rad/s (+ = heading
+  /// turning left, about the camera's −y); NaN when the motion or the frame times are missing.
   double yaw_rate = std::numeric_limits<double>::quiet_NaN();
   bool applied = false;       ///< the backend was given corrected observations
   double applied_px = 0.0;    ///< δ applied (0 when not)
@@ -74,12 +80,14 @@ using CalibratedBackend =
     std::function<BackendResult(const TrackletTable&, const StereoCamera&, FrameRange,
                                 const PipelineOptions&, const WindowPrior*)>;
 
-/// Mean yaw rate (rad/s, + = turning left) between the first and the last of
-/// `world_from_cam` (camera x right, y down, z forward): the net rotation about the first
-/// camera's y axis, over timestamps[range.end − 1] − timestamps[range.begin]. NaN when there
-/// are fewer than two poses, the times do not cover `range` or do not increase.
-double MeanYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,
-                   const std::vector<double>& timestamps);
+/// The yaw rate (rad/s, + = turning left) of largest magnitude over the spans of
+/// `world_from_cam` (frames `range`; camera x right, y down, z forward) from each frame to the
+/// first one at least `min_span_s` later: the net rotation about the span's first camera's y
+/// axis over the span's time (timestamps[frame]). The whole range's when it is shorter than
+/// `min_span_s`. NaN when there are fewer than two poses, or the times do not cover `range`
+/// or do not increase.
+double PeakYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,
+                   const std::vector<double>& timestamps, double min_span_s);
 
 /// Wraps `inner` (the run's backend call) with the calibration of options.calibration.
 /// Calls come from one thread at a time (the backend stage); Record() is read after the run.

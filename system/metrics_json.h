@@ -64,7 +64,7 @@ struct RunMetrics {
     std::optional<double> disparity_offset_sigma_px;  ///< its standard deviation
     std::optional<double> disparity_offset_applied_px;  ///< δ applied (0: not significant)
     std::optional<int> disparity_offset_frames;       ///< frames it was estimated over
-    /// Mean yaw rate of the camera over those frames, rad/s (+ = left).
+    /// Largest yaw rate of the camera in those frames, rad/s (+ = left; PeakYawRate).
     std::optional<double> disparity_offset_yaw_rate;
     std::optional<std::string> disparity_offset_decision;  ///< why δ was or was not applied
   };

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "backend/disparity_offset.h"
 #include "core/errors.h"
@@ -126,19 +127,36 @@ TEST(DisparityOffsetCalibrator, DoesNotEstimateWhileTheCameraTurns) {
   EXPECT_NEAR(allowed.disparity_offset->applied_px, shift, 0.03);
 }
 
-TEST(MeanYawRate, IsTheNetHeadingChangeOverTheFramesTime) {
-  // Turning left (forward axis towards −x) at 0.2 rad/s for 2 s, frames 10..30 of a run.
+// Frames 10..30 of a run at 10 frames/s, the camera's heading `heading(f)` rad (+ = left).
+std::vector<Pose> Headings(const std::function<double(int)>& heading) {
   std::vector<Pose> poses;
+  // YawPose turns about +y, to the right.
+  for (int f = 10; f < 31; ++f) poses.push_back(testing::YawPose(-heading(f), Eigen::Vector3d(f, 0, 2 * f)));
+  return poses;
+}
+
+TEST(PeakYawRate, IsTheSteadyTurnsRateWithItsSign) {
   std::vector<double> times(40);
   for (int f = 0; f < 40; ++f) times[f] = 5.0 + 0.1 * f;
-  for (int f = 10; f < 31; ++f)
-    poses.push_back(testing::YawPose(-0.02 * (f - 10) + 0.3, Eigen::Vector3d(f, 0, 2 * f)));
-  EXPECT_NEAR(MeanYawRate(poses, {10, 31}, times), 0.2, 1e-9);
-  for (Pose& p : poses) p.linear() = p.linear().transpose().eval();  // the mirrored turn
-  EXPECT_NEAR(MeanYawRate(poses, {10, 31}, times), -0.2, 1e-9);
-  EXPECT_TRUE(std::isnan(MeanYawRate(poses, {10, 31}, std::vector<double>(20, 0.0))));
-  EXPECT_TRUE(std::isnan(MeanYawRate(poses, {10, 31}, std::vector<double>(40, 1.0))));
-  EXPECT_TRUE(std::isnan(MeanYawRate({poses[0]}, {10, 11}, times)));
+  const auto left = Headings([](int f) { return 0.3 + 0.02 * (f - 10); });  // 0.2 rad/s
+  EXPECT_NEAR(PeakYawRate(left, {10, 31}, times, 1.0), 0.2, 1e-9);
+  const auto right = Headings([](int f) { return -0.02 * (f - 10); });
+  EXPECT_NEAR(PeakYawRate(right, {10, 31}, times, 1.0), -0.2, 1e-9);
+  // A span longer than the frames: the whole range's.
+  EXPECT_NEAR(PeakYawRate(left, {10, 31}, times, 5.0), 0.2, 1e-9);
+  EXPECT_TRUE(std::isnan(PeakYawRate(left, {10, 31}, std::vector<double>(20, 0.0), 1.0)));
+  EXPECT_TRUE(std::isnan(PeakYawRate(left, {10, 31}, std::vector<double>(40, 1.0), 1.0)));
+  EXPECT_TRUE(std::isnan(PeakYawRate({left[0]}, {10, 11}, times, 1.0)));
+}
+
+TEST(PeakYawRate, SeesBothHalvesOfAnSBendWhoseNetTurnIsNil) {
+  std::vector<double> times(40);
+  for (int f = 0; f < 40; ++f) times[f] = 0.1 * f;
+  // Left at 0.2 rad/s for 1 s, right at 0.2 rad/s for 1 s: back to the first heading.
+  const auto s_bend = Headings([](int f) { return f <= 20 ? 0.02 * (f - 10) : 0.2 - 0.02 * (f - 20); });
+  EXPECT_NEAR(PeakYawRate(s_bend, {10, 31}, times, 5.0), 0.0, 1e-9);  // the net rate
+  EXPECT_NEAR(std::abs(PeakYawRate(s_bend, {10, 31}, times, 1.0)), 0.2, 1e-9);
+  EXPECT_NEAR(std::abs(PeakYawRate(s_bend, {10, 31}, times, 0.5)), 0.2, 1e-9);
 }
 
 TEST(DisparityOffsetCalibrator, IsNotRunWhenSwitchedOff) {
@@ -166,6 +184,15 @@ TEST(CalibrationOptions, CheckNamesTheBadKey) {
     FAIL() << "accepted a zero max_yaw_rate";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("calibration.disparity_offset_max_yaw_rate"),
+              std::string::npos);
+  }
+  o = {};
+  o.disparity_offset_yaw_span_s = 0;
+  try {
+    o.Check();
+    FAIL() << "accepted a zero yaw span";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("calibration.disparity_offset_yaw_span_s"),
               std::string::npos);
   }
   o = {};
