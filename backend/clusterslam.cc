@@ -238,6 +238,19 @@ BackendResult RunClusterSlam(const TrackletTable& table, const StereoCamera& cam
       });
 }
 
+namespace {
+
+// The loop's last labelling still holds the clusters its last re-clustering made.
+void JudgeFinalClusters(const PointTracks& raw, const ModelAssignmentOptions& options,
+                        MotionEstimate* estimate) {
+  if (const int removed = DissolveUnsupportedClusters(raw, options, estimate))
+    GetLogger("backend")->info("clusterslam: {} moving cluster(s) dissolved by the final check "
+                               "(the static world explains them, or too few of their landmarks "
+                               "fit their motion)", removed);
+}
+
+}  // namespace
+
 BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamera& camera,
                              FrameRange range, const ClusterSlamOptions& options,
                              const MotionEstimator& estimator) {
@@ -325,6 +338,7 @@ BackendResult RunClusterSlam(const TrackletTable& input_table, const StereoCamer
   }
   // The estimator owns landmark_cluster, but the loop's labelling is the reference.
   if (result.estimate.landmark_cluster.empty()) result.estimate.landmark_cluster = labels;
+  if (opts.assignment.enabled) JudgeFinalClusters(raw, opts.assignment, &result.estimate);
   if (opts.motion.run_bundle_adjustment) ApplyMotionPrior(table, camera, final_ba, &result.estimate);
   result.time_s = total.ElapsedS();
   return result;
@@ -483,6 +497,7 @@ BackendResult RunClusterSlamWindow(const TrackletTable& input_table, const Stere
               diag.vi_to_previous, diag.chi2, diag.clustering_ms, diag.estimation_ms);
   }
   if (result.estimate.landmark_cluster.empty()) result.estimate.landmark_cluster = labels;
+  JudgeFinalClusters(raw, opts.assignment, &result.estimate);
   if (adjusted) {
     // With the window rounds' own iteration limits (window_prior.ba_iterations).
     BundleAdjustmentOptions final_ba = motion.bundle_adjustment;

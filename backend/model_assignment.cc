@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 
 #include "core/logging.h"
 
@@ -41,6 +42,7 @@ void ModelAssignmentOptions::Check() const {
               min_cluster_landmarks);
   CheckOption(max_reclusterings >= 1, "model_assignment.max_reclusterings", "must be >= 1",
               max_reclusterings);
+  moving_test.Check();
   CheckOption(std::isfinite(min_relative_motion) && min_relative_motion >= 0,
               "model_assignment.min_relative_motion", "must be >= 0 (RMS / mean range)",
               min_relative_motion);
@@ -62,7 +64,11 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("min_cluster_landmarks", &min_cluster_landmarks);
   reader.Read("min_own_fit_fraction", &min_own_fit_fraction);
   reader.Read("core_cluster_landmarks", &core_cluster_landmarks);
+  reader.Read("test_moving", &test_moving);
   reader.Read("min_relative_motion", &min_relative_motion);
+  OptionsReader section = reader.Section("moving_test");
+  moving_test.Load(section);
+  section.Finish();
   reader.Read("max_reclusterings", &max_reclusterings);
 }
 
@@ -204,6 +210,91 @@ double RelativeMotion(const MotionEstimate& estimate, const std::vector<int>& la
   return std::isfinite(rel) ? rel : -1.0;
 }
 
+MovingTestResult TestClusterMoving(const PointTracks& tracks, const std::vector<int>& labels,
+                                   const MotionEstimate& estimate, int label,
+                                   const MovingTestOptions& options) {
+  const std::vector<Model> models = ModelsOf(estimate);
+  const Model* world = nullptr;
+  const Model* own = nullptr;
+  for (const Model& m : models) {
+    if (m.label == 0) world = &m;
+    if (m.label == label) own = &m;
+  }
+  if (!world || !own || label == 0) return {};
+  std::vector<const PointTrack*> members;
+  const size_t n = std::min(labels.size(), tracks.size());
+  for (size_t l = 0; l < n; ++l)
+    if (labels[l] == label) members.push_back(&tracks[l]);
+  return TestMoving(members, [world](int f) { return world->At(f); },
+                    [own](int f) { return own->At(f); }, options);
+}
+
+int DissolveUnsupportedClusters(const PointTracks& tracks, const ModelAssignmentOptions& options,
+                                MotionEstimate* estimate) {
+  const std::vector<Model> models = ModelsOf(*estimate);
+  if (models.empty() || models[0].label != 0) return 0;
+  const Model& world = models[0];
+  std::vector<int>& labels = estimate->landmark_cluster;
+  const int n = static_cast<int>(std::min(labels.size(), tracks.size()));
+  std::set<int> removed;
+  for (const Model& m : models) {
+    if (m.label == 0) continue;
+    int covered = 0, fits = 0;
+    for (int l = 0; l < n; ++l) {
+      if (labels[l] != m.label || static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
+      const double c = CostUnder(tracks[l], Informations(tracks[l]), m, options.min_coverage,
+                                 options.max_dropped_samples, options.sample_gate_chi2);
+      if (c < 0) continue;
+      ++covered;
+      fits += c <= options.fit_threshold;
+    }
+    bool dissolve = fits < options.min_cluster_landmarks ||
+                    (fits < options.core_cluster_landmarks &&
+                     fits < options.min_own_fit_fraction * static_cast<double>(covered));
+    double rel = -1.0;
+    if (!dissolve && options.min_relative_motion > 0) {
+      rel = RelativeMotion(*estimate, labels, m.label);
+      dissolve = rel >= 0 && rel < options.min_relative_motion;
+    }
+    MovingTestResult test;
+    if (!dissolve && options.test_moving) {
+      test = TestClusterMoving(tracks, labels, *estimate, m.label, options.moving_test);
+      dissolve = !test.moving;
+    }
+    GetLogger("backend")->debug(
+        "final check: cluster {} {} ({} of {} landmarks fit its motion, relative motion {:.4f}; "
+        "moving test: difference {:.1f} against {:.1f} for {} dof, {} landmarks in {} frames)",
+        m.label, dissolve ? "dissolved" : "kept", fits, covered, rel, test.Statistic(),
+        test.threshold, test.dof, test.landmarks, test.frames);
+    if (dissolve) removed.insert(m.label);
+  }
+  if (removed.empty()) return 0;
+  for (int l = 0; l < n; ++l) {
+    if (!removed.count(labels[l])) continue;
+    labels[l] = -1;
+    estimate->landmark_in_cluster[l] = Eigen::Vector3d::Constant(NAN);
+    if (static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
+    const std::vector<Eigen::Matrix3d> info = Informations(tracks[l]);
+    const double c = CostUnder(tracks[l], info, world, options.min_coverage,
+                               options.max_dropped_samples, options.sample_gate_chi2);
+    if (c < 0 || c > options.fit_threshold) continue;
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (size_t k = 0; k < tracks[l].samples.size(); ++k) {
+      const Pose* p = world.At(tracks[l].samples[k].frame);
+      if (!p) continue;
+      const Eigen::Matrix3d w = p->linear() * info[k] * p->linear().transpose();
+      a += w;
+      b += w * (*p * tracks[l].samples[k].point);
+    }
+    labels[l] = 0;
+    estimate->landmark_in_cluster[l] = a.ldlt().solve(b);
+  }
+  std::erase_if(estimate->clusters,
+                [&](const ClusterMotion& c) { return removed.count(c.cluster) > 0; });
+  return static_cast<int>(removed.size());
+}
+
 ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vector<int>& labels,
                                      const MotionEstimate& estimate,
                                      const ModelAssignmentOptions& options,
@@ -259,16 +350,22 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
       rel = RelativeMotion(estimate, labels, label);
       dissolve = rel >= 0 && rel < options.min_relative_motion;
     }
-    if (!dissolve) {
-      GetLogger("backend")->debug("model assignment: cluster {} kept ({} of {} landmarks fit its "
-                                  "motion, relative motion {:.4f})", label, fits, covered, rel);
-      continue;
+    MovingTestResult test;
+    if (!dissolve && options.test_moving) {
+      test = TestClusterMoving(tracks, labels, estimate, label, options.moving_test);
+      dissolve = !test.moving;
     }
+    GetLogger("backend")->debug(
+        "model assignment: cluster {} {} ({} of {} landmarks fit its motion, relative motion "
+        "{:.4f}; moving test: "
+        "chi2 static {:.1f} own {:.1f}, difference {:.1f} against {:.1f} for {} dof, {} "
+        "landmarks in {} frames, disparity offsets {:.2f} / {:.2f} px)",
+        label, dissolve ? "dissolved" : "kept", fits, covered, rel, test.chi2_static, test.chi2_own,
+        test.Statistic(), test.threshold, test.dof, test.landmarks, test.frames,
+        test.offset_static_px, test.offset_own_px);
+    if (!dissolve) continue;
     dissolved[m] = 1;
     ++out.dissolved;
-    GetLogger("backend")->debug("model assignment: cluster {} dissolved ({} of {} landmarks fit "
-                                "its motion, relative motion {:.4f})",
-                                label, fits, covered, rel);
   }
   std::map<int, bool> is_dissolved;
   for (int m = 0; m < num_models; ++m)

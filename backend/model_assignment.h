@@ -17,9 +17,11 @@
 //     own (the static world split into pieces becomes one cluster again),
 //   - dissolves a moving cluster that has not earned its existence [ours, for real tracks]:
 //     too few of its landmarks fit its own motion (a group of unrelated bad tracks that the
-//     re-clustering put together), or its motion displaces its points by less than a small
-//     fraction of their range (a piece of the static world that its own 6 DoF per frame
-//     over-fit). Its landmarks go to the best remaining model, or stay unlabelled.
+//     re-clustering put together), or the static world's motion explains its tracks within
+//     their covariances (backend/moving_test.h: a piece of the static world that its own
+//     6 DoF per frame over-fit), or its motion displaces its points by less than a small
+//     fraction of their range: significant but too small for a body (a few tracks drifting
+//     alike pass the test). Its landmarks go to the best remaining model, or stay unlabelled.
 //
 // Real tracks (KITTI raw 0005, docs/benchmarks.md "Clustering on real drives"): under the
 // estimated static motion, static landmarks have a median cost of 0.35 but a heavy tail (8 %
@@ -33,6 +35,7 @@
 #include <vector>
 
 #include "backend/motion_estimation.h"
+#include "backend/moving_test.h"
 #include "backend/point_tracks.h"
 #include "core/options_reader.h"
 
@@ -61,6 +64,8 @@ struct ModelAssignmentOptions {
                                       ///< its landmarks fit its own motion; 0 = off
   double min_own_fit_fraction = 0.7;  ///< ... or when fewer than core_cluster_landmarks and
   int core_cluster_landmarks = 10;    ///< less than this fraction of its landmarks fit it
+  bool test_moving = true;            ///< ... or when the static world explains its tracks
+  MovingTestOptions moving_test;      ///< (section "moving_test"; backend/moving_test.h)
   double min_relative_motion = 0.02;  ///< ... or its motion relative to the static world moves
                                       ///< its points by less than this RMS / mean range; 0 = off
   int max_reclusterings = 2;          ///< [ours] times one landmark is handed out for
@@ -93,6 +98,23 @@ double ModelCost(const PointTrack& track, const MotionEstimate& estimate, int la
 /// from its mean world position, divided by the points' mean distance from the camera; 0 for
 /// a cluster held still, negative without a trajectory or points.
 double RelativeMotion(const MotionEstimate& estimate, const std::vector<int>& labels, int label);
+
+/// The moving-or-static test (backend/moving_test.h) of cluster `label` of `labels`: its
+/// landmarks' `tracks` under the static world's motion in `estimate` against its own.
+/// `moving` false without a trajectory.
+MovingTestResult TestClusterMoving(const PointTracks& tracks, const std::vector<int>& labels,
+                                   const MotionEstimate& estimate, int label,
+                                   const MovingTestOptions& options);
+
+/// The final word on the moving clusters of `estimate` [ours]: a cluster whose landmarks
+/// mostly do not fit its own motion (min_cluster_landmarks, core_cluster_landmarks,
+/// min_own_fit_fraction) or that fails the moving test (test_moving) is removed; its
+/// landmarks join the static world (placed at the mean of their static-mapped samples) when
+/// they fit it, and become unlabelled (-1) when not. The loop's last re-clustering of outliers
+/// makes clusters no assignment round has judged yet; this judges them. Returns how many
+/// clusters were removed.
+int DissolveUnsupportedClusters(const PointTracks& tracks, const ModelAssignmentOptions& options,
+                                MotionEstimate* estimate);
 
 /// One round of reassignment, outlier detection, dissolution and merging of `labels`
 /// ([landmark id], -1 none) given the motions estimated for them. `tracks` = camera-frame

@@ -26,18 +26,24 @@ bool CamFromCluster(const MotionEstimate& est, int label, int frame, Pose* cam_f
 
 }  // namespace
 
+std::optional<PointSample> BackProjectObservation(const StereoObservation& o,
+                                                  const StereoCamera& camera) {
+  PointSample s;
+  s.frame = o.frame;
+  Eigen::Matrix3d jac;
+  if (!camera.BackProject<double>(o.x, &s.point, &jac)) return std::nullopt;
+  s.cov = jac * o.cov * jac.transpose();
+  s.disparity_px = o.x(0) - o.x(2);
+  s.metres_per_px = s.point.z() / camera.fx;
+  return s;
+}
+
 PointTracks BackProjectTracks(const TrackletTable& table, const StereoCamera& camera,
                               FrameRange range) {
   PointTracks tracks(table.num_landmarks());
   for (int l : table.LandmarksIn(range)) {
-    for (const StereoObservation& o : table.ObservationsOf(l, range)) {
-      PointSample s;
-      s.frame = o.frame;
-      Eigen::Matrix3d jac;
-      if (!camera.BackProject<double>(o.x, &s.point, &jac)) continue;
-      s.cov = jac * o.cov * jac.transpose();
-      tracks[l].samples.push_back(s);
-    }
+    for (const StereoObservation& o : table.ObservationsOf(l, range))
+      if (const auto s = BackProjectObservation(o, camera)) tracks[l].samples.push_back(*s);
   }
   return tracks;
 }

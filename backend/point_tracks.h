@@ -9,6 +9,7 @@
 // (Cluster-frame coordinates would not be: in its own cluster frame every landmark is static,
 // so two different bodies would look rigidly attached to each other.)
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "backend/motion_estimation.h"
@@ -22,6 +23,8 @@ struct PointSample {
   int frame = -1;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+  double disparity_px = 0.0;  ///< uL − uR of the observation (0: unknown)
+  double metres_per_px = 0.0; ///< depth / focal length: lateral metres per pixel (0: unknown)
 };
 
 /// The samples of one landmark, ascending frame (a subset of its table observations).
@@ -31,6 +34,11 @@ struct PointTrack {
 
 /// Indexed by landmark id (size = table.num_landmarks()); empty tracks are allowed.
 using PointTracks = std::vector<PointTrack>;
+
+/// One observation back-projected: f(x), J_f Σ J_fᵀ, its disparity and metres per pixel;
+/// nullopt when the disparity is not positive.
+std::optional<PointSample> BackProjectObservation(const StereoObservation& o,
+                                                  const StereoCamera& camera);
 
 /// First iteration: f(xᵢₜ) and J_f Σᵢₜ J_fᵀ for every observation in `range` with positive
 /// disparity.

@@ -34,12 +34,15 @@ std::string Numbered(const std::string& dir, const char* stem, int frame) {
 
 // Landmarks where they are at `frame` (moving clusters at their pose then), and the recent
 // camera, ground-truth and cluster paths (clusters drawn through their landmarks' centroid:
-// a cluster frame's origin can be anywhere).
-void FillSnapshot(const MapState& map, const RunInput& input, int frame,
-                  std::vector<RenderPoint>* points, std::vector<RenderTrajectory>* recent) {
+// a cluster frame's origin can be anywhere). Moving clusters not `reported` are drawn as
+// outliers (-1) and without a path.
+void FillSnapshot(const MapState& map, const std::set<int>& reported, const RunInput& input,
+                  int frame, std::vector<RenderPoint>* points,
+                  std::vector<RenderTrajectory>* recent) {
   std::map<int, std::pair<Eigen::Vector3d, int>> centroids;
   for (int l : map.Landmarks()) {
-    const int cluster = map.ClusterOf(l);
+    int cluster = map.ClusterOf(l);
+    if (cluster >= 1 && !reported.count(cluster)) cluster = -1;
     if (cluster >= 1) {
       auto& [sum, n] = centroids.try_emplace(cluster, Eigen::Vector3d::Zero(), 0).first->second;
       sum += *map.PositionInCluster(l);
@@ -95,8 +98,8 @@ FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
 
 FrameRenders::~FrameRenders() { Finish(); }
 
-void FrameRenders::AfterWindow(const MapState& map, const TrackletTable& window_table,
-                               FrameRange range) {
+void FrameRenders::AfterWindow(const MapState& map, const std::set<int>& reported,
+                               const TrackletTable& window_table, FrameRange range) {
   if (!enabled()) return;
   for (; next_frame_ < range.end; ++next_frame_) {
     const int f = next_frame_;
@@ -108,12 +111,13 @@ void FrameRenders::AfterWindow(const MapState& map, const TrackletTable& window_
     if (!job.snapshot && !job.overlay) continue;
     if (f >= map.num_frames() || !map.world_from_cam()[f]) continue;  // no pose: nothing to show
     job.world_from_cam = *map.world_from_cam()[f];
-    if (job.snapshot) FillSnapshot(map, input_, f, &job.points, &job.recent);
+    if (job.snapshot) FillSnapshot(map, reported, input_, f, &job.points, &job.recent);
     if (job.overlay) {
       const FrameRange trail{std::max(range.begin, f - kTrailFrames + 1), f + 1};
       for (const ObservationRef& ref : window_table.ObservationsAt(f)) {
         OverlayTrack t;
         t.cluster = map.ClusterOf(ref.landmark);
+        if (t.cluster >= 1 && !reported.count(t.cluster)) t.cluster = -1;
         for (const StereoObservation& o : window_table.ObservationsOf(ref.landmark, trail))
           t.trail.emplace_back(o.x(0), o.x(1));
         job.tracks.push_back(std::move(t));

@@ -5,6 +5,7 @@
 // bounded queue so a slow disk or renderer holds the backend back instead of filling memory.
 #include <atomic>
 #include <memory>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -40,8 +41,10 @@ class FrameRenders {
   /// Whether any per-frame picture is asked for.
   bool enabled() const { return snapshots_every_ > 0 || overlays_every_ > 0; }
   /// After `map` integrated a window over `range` with observations `window_table`: renders
-  /// every due frame before range.end that was not rendered yet.
-  void AfterWindow(const MapState& map, const TrackletTable& window_table, FrameRange range);
+  /// every due frame before range.end that was not rendered yet, showing the moving clusters
+  /// in `reported` (system/object_report.h) as objects and the others' points as outliers.
+  void AfterWindow(const MapState& map, const std::set<int>& reported,
+                   const TrackletTable& window_table, FrameRange range);
   /// Waits for the writer to finish everything queued; returns what was written.
   FrameRenderStats Finish();
 

@@ -24,6 +24,10 @@ void MapStateOptions::Check() const {
               "must be positive (RMS misplacement / mean range to the camera)", motion_tolerance);
   CheckOption(min_new_cluster_landmarks >= 1, "map.min_new_cluster_landmarks",
               "must be at least 1", min_new_cluster_landmarks);
+  CheckOption(report_min_landmarks >= 1, "map.report_min_landmarks", "must be at least 1",
+              report_min_landmarks);
+  CheckOption(report_min_frames >= 1, "map.report_min_frames", "must be at least 1",
+              report_min_frames);
   CheckOption(refine_camera_from >= 0, "map.refine_camera_from", "must be >= 0 (0: off)",
               refine_camera_from);
 }
@@ -40,6 +44,8 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
   r.Read("stitch_by_motion", &stitch_by_motion);
   r.Read("refine_camera_from", &refine_camera_from);
+  r.Read("report_min_landmarks", &report_min_landmarks);
+  r.Read("report_min_frames", &report_min_frames);
   r.Finish();
 }
 
@@ -59,7 +65,7 @@ std::optional<Eigen::Vector3d> MapState::PositionInCluster(int landmark) const {
 std::optional<Eigen::Vector3d> MapState::WorldPosition(int landmark, int frame) const {
   const auto it = landmarks_.find(landmark);
   if (it == landmarks_.end()) return std::nullopt;
-  if (it->second.cluster == 0) return it->second.p_in_cluster;
+  if (it->second.cluster <= 0) return it->second.p_in_cluster;
   const auto c = clusters_.find(it->second.cluster);
   if (c == clusters_.end()) return std::nullopt;
   const auto pose = c->second.world_from_cluster.find(frame);
@@ -73,6 +79,19 @@ std::vector<int> MapState::Landmarks() const {
   for (const auto& [id, state] : landmarks_) ids.push_back(id);
   std::sort(ids.begin(), ids.end());
   return ids;
+}
+
+void MapState::ReleaseCluster(int id) {
+  const auto c = clusters_.find(id);
+  if (id < 1 || c == clusters_.end()) return;
+  const Pose last = c->second.world_from_cluster.empty() ? Pose::Identity()
+                                                         : c->second.world_from_cluster.rbegin()->second;
+  for (auto& [l, state] : landmarks_) {
+    if (state.cluster != id) continue;
+    state.cluster = -1;
+    state.p_in_cluster = last * state.p_in_cluster;
+  }
+  clusters_.erase(c);
 }
 
 void MapState::SetCameraPose(int frame, const Pose& world_from_cam) {

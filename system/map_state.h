@@ -65,6 +65,11 @@ struct MapStateOptions {
   /// online camera ATE 0.989 m with 1 against 1.081 m with 0 (docs/benchmarks.md, "Real-drive
   /// accuracy").
   int refine_camera_from = 1;
+  /// A moving cluster is reported as an object (objects/, renders, metrics) only with at least
+  /// this many landmarks and poses at this many frames; the landmarks of smaller or shorter
+  /// ones are outliers (cluster -1): a few points or a few frames say too little about a body.
+  int report_min_landmarks = 5;
+  int report_min_frames = 10;
   void Check() const;
   void Load(OptionsReader& r);
 };
@@ -102,15 +107,18 @@ class MapState {
   const std::vector<std::optional<Pose>>& world_from_cam() const { return world_from_cam_; }
   /// Moving clusters by id (static 0 is not listed).
   const std::map<int, MapCluster>& clusters() const { return clusters_; }
-  /// Cluster of a landmark (-1 unknown).
+  /// Cluster of a landmark (-1 unknown, or an outlier: see ReleaseCluster).
   int ClusterOf(int landmark) const;
-  /// Position of a landmark in its cluster's frame (world frame for static ones).
+  /// Position of a landmark in its cluster's frame (world frame for static ones and outliers).
   std::optional<Eigen::Vector3d> PositionInCluster(int landmark) const;
   /// World position of a landmark at `frame` (for moving clusters, the cluster's pose then;
   /// nullopt when the cluster has no pose at that frame).
   std::optional<Eigen::Vector3d> WorldPosition(int landmark, int frame) const;
   /// Landmark ids known to the map, ascending.
   std::vector<int> Landmarks() const;
+  /// Takes moving cluster `id` out of the map: its landmarks become outliers (cluster -1),
+  /// kept at their world positions at the cluster's last pose.
+  void ReleaseCluster(int id);
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).
   const std::vector<int>& gaps() const { return gaps_; }
 

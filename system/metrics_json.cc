@@ -79,12 +79,21 @@ nlohmann::json ToJson(const RunMetrics& m) {
                   {"eligible", Value(m.objects.eligible)},
                   {"found_eligible", Value(m.objects.found_eligible)},
                   {"eligible_min_landmarks", Value(m.objects.eligible_min_landmarks)},
+                  {"reported", Value(m.objects.reported)},
+                  {"reported_on_movers", Value(m.objects.reported_on_movers)},
+                  {"precision", Value(m.objects.precision)},
+                  {"recall", Value(m.objects.recall)},
+                  {"static_in_objects_fraction", Value(m.objects.static_in_objects_fraction)},
                   {"per_object", per_object}};
   j["clustering"] = {{"accuracy", Value(m.clustering.accuracy)},
                      {"vi", Value(m.clustering.vi)},
                      {"clusters", Value(m.clustering.clusters)},
                      {"gt_objects", Value(m.clustering.gt_objects)}};
   j["landmarks"] = {{"rmse_m", Value(m.landmarks.rmse_m)}, {"count", Value(m.landmarks.count)}};
+  j["noise"] = {{"static_chi2_per_dof", Value(m.noise.static_chi2_per_dof)},
+                {"static_cut_fraction", Value(m.noise.static_cut_fraction)},
+                {"static_landmarks", Value(m.noise.static_landmarks)},
+                {"static_observations", Value(m.noise.static_observations)}};
   j["log_chi2"] = Value(m.log_chi2);
   j["timing"] = {{"total_s", Value(m.timing.total_s)},
                  {"frontend_ms_per_frame", Value(m.timing.frontend_ms_per_frame)},
@@ -156,6 +165,11 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     Read(o, "eligible", m.objects.eligible);
     Read(o, "found_eligible", m.objects.found_eligible);
     Read(o, "eligible_min_landmarks", m.objects.eligible_min_landmarks);
+    Read(o, "reported", m.objects.reported);
+    Read(o, "reported_on_movers", m.objects.reported_on_movers);
+    Read(o, "precision", m.objects.precision);
+    Read(o, "recall", m.objects.recall);
+    Read(o, "static_in_objects_fraction", m.objects.static_in_objects_fraction);
     if (o.contains("per_object") && o["per_object"].is_array()) {
       for (const json& e : o["per_object"]) {
         RunMetrics::PerObject p;
@@ -181,6 +195,11 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     const json& l = Child(j, "landmarks");
     Read(l, "rmse_m", m.landmarks.rmse_m);
     Read(l, "count", m.landmarks.count);
+    const json& nz = Child(j, "noise");
+    Read(nz, "static_chi2_per_dof", m.noise.static_chi2_per_dof);
+    Read(nz, "static_cut_fraction", m.noise.static_cut_fraction);
+    Read(nz, "static_landmarks", m.noise.static_landmarks);
+    Read(nz, "static_observations", m.noise.static_observations);
     Read(j, "log_chi2", m.log_chi2);
     const json& t = Child(j, "timing");
     Read(t, "total_s", m.timing.total_s);

@@ -33,6 +33,14 @@ struct RunMetrics {
     /// landmarks), and how many of those were found: the "every object with ≥ 30 tracked
     /// landmarks found" figure, which objects a few points wide cannot spoil.
     std::optional<int> eligible, found_eligible, eligible_min_landmarks;
+    /// Moving clusters reported as objects (system/object_report.h), with or without labels.
+    std::optional<int> reported;
+    /// Where landmarks are labelled: reported objects most of whose labelled landmarks lie on
+    /// one moving object; precision = that / reported; recall = matched / gt.
+    std::optional<int> reported_on_movers;
+    std::optional<double> precision, recall;
+    /// Static landmarks (on no moving object) that sit in a reported object / static landmarks.
+    std::optional<double> static_in_objects_fraction;
     std::vector<PerObject> per_object;
   };
   /// Clustering against ground-truth labels; vi in nats (natural logarithm).
@@ -44,6 +52,13 @@ struct RunMetrics {
   struct Landmarks {
     std::optional<double> rmse_m;
     std::optional<long long> count;
+  };
+  /// The static landmarks' whitened reprojection residuals under the final camera poses
+  /// (system/noise_check.h): chi2_per_dof ≈ 1 when the keypoint covariances are honest.
+  struct Noise {
+    std::optional<double> static_chi2_per_dof, static_cut_fraction;
+    std::optional<int> static_landmarks;
+    std::optional<long long> static_observations;
   };
   /// Wall-clock figures.
   struct Timing {
@@ -89,6 +104,7 @@ struct RunMetrics {
   Objects objects;
   Clustering clustering;
   Landmarks landmarks;
+  Noise noise;
   std::optional<double> log_chi2;
   Timing timing;
   Status run;

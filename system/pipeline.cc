@@ -17,6 +17,7 @@
 #include "system/bounded_queue.h"
 #include "system/core_reservation.h"
 #include "system/estimate_sanity.h"
+#include "system/object_report.h"
 #include "system/thread_priority.h"
 #include "system/window_prior.h"
 #include "system/worker_pool.h"
@@ -138,7 +139,8 @@ class BackendStage {
     stats.integrate_ms = timer.ElapsedMs();
     stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
     timer.Reset();
-    renders_.AfterWindow(map_, window_table, range);
+    if (renders_.enabled())
+      renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range);
     stats.render_ms = timer.ElapsedMs();
     GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
                               range.end - 1, stats.clusters,
@@ -666,6 +668,12 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
     out = RunOnlineThreaded(input, options, stop, progress, call, reservation.get());
   }
   out.disparity_offset = calibrator.Record();
+  const int candidates = static_cast<int>(out.map.clusters().size());
+  const int released = KeepReportedObjects(&out.map, options.map);
+  GetLogger("system")->info("{} of {} moving clusters reported as objects; the landmarks of the "
+                            "other {} (under {} landmarks or {} frames) are outliers (-1)",
+                            candidates - released, candidates, released,
+                            options.map.report_min_landmarks, options.map.report_min_frames);
   out.total_s = timer.ElapsedS();
   LogStageTimes(out);
   return out;

@@ -8,6 +8,7 @@
 
 #include "system/box_labels.h"
 #include "system/clustering_metrics.h"
+#include "system/noise_check.h"
 #include "system/run_writer.h"
 #include "system/synthetic_image_io.h"
 #include "system/synthetic_landmark_truth.h"
@@ -60,6 +61,35 @@ void FillClustering(const std::vector<int>& truth, const std::vector<int>& predi
   m->clustering.clusters = static_cast<int>(std::unique(p.begin(), p.end()) - p.begin());
 }
 
+// Reported objects against labels (truth 0 = on no moving object): how many of them lie
+// mostly on one moving object, and how much of the static world sits in one.
+void FillObjectPrecision(const std::vector<int>& truth, const std::vector<int>& predicted,
+                         RunMetrics* m) {
+  std::map<int, std::map<int, int>> by_cluster;  // predicted moving cluster → truth → count
+  long long statics = 0, static_in_objects = 0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    if (predicted[i] >= 1) ++by_cluster[predicted[i]][truth[i]];
+    if (truth[i] == 0) {
+      ++statics;
+      static_in_objects += predicted[i] >= 1;
+    }
+  }
+  int on_movers = 0;
+  for (const auto& [cluster, counts] : by_cluster) {
+    int total = 0, best = 0;
+    for (const auto& [t, n] : counts) {
+      total += n;
+      if (t >= 1) best = std::max(best, n);
+    }
+    on_movers += 2 * best > total;
+  }
+  m->objects.reported_on_movers = on_movers;
+  if (m->objects.reported && *m->objects.reported > 0)
+    m->objects.precision = static_cast<double>(on_movers) / *m->objects.reported;
+  if (statics > 0)
+    m->objects.static_in_objects_fraction = static_cast<double>(static_in_objects) / statics;
+}
+
 // For each ground-truth object (label >= 1), the predicted moving cluster matched to it by
 // the Hungarian matching, when that cluster holds at least half of the object's landmarks.
 std::map<int, int> FoundClusters(const std::vector<int>& truth, const std::vector<int>& predicted) {
@@ -101,6 +131,7 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
     predicted.push_back(map.ClusterOf(l));
   }
   FillClustering(truth, predicted, m);
+  FillObjectPrecision(truth, predicted, m);
 
   const std::map<int, int> found = FoundClusters(truth, predicted);
   for (int obj = 1; obj < seq.num_objects(); ++obj) {
@@ -167,6 +198,7 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result, 
     predicted.push_back(map.ClusterOf(l));
   }
   FillClustering(truth, predicted, m);
+  FillObjectPrecision(truth, predicted, m);
   const std::map<int, int> found = FoundClusters(truth, predicted);
   for (size_t k = 0; k < moving.size(); ++k) {
     const int obj = static_cast<int>(k) + 1;
@@ -259,8 +291,21 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   }
   if (input.gt_world_from_cam && input.gt_cross_check && result.frames_processed > 1)
     m.ground_truth = CheckGroundTruth(input, result);
+  m.objects.reported = static_cast<int>(result.map.clusters().size());
   if (input.synthetic) SyntheticMetrics(input, result, &m);
   if (input.kind == "kitti_raw") KittiRawObjectMetrics(input, result, &m);
+  if (m.objects.gt && *m.objects.gt > 0)
+    m.objects.recall = static_cast<double>(m.objects.matched.value_or(0)) / *m.objects.gt;
+  {
+    const double offset = result.disparity_offset ? result.disparity_offset->applied_px : 0.0;
+    const NoiseCheck noise = CheckStaticNoise(result.map, result.table, input.camera, offset);
+    if (noise.landmarks > 0) {
+      m.noise.static_chi2_per_dof = noise.chi2_per_dof;
+      m.noise.static_cut_fraction = noise.cut_fraction;
+      m.noise.static_landmarks = noise.landmarks;
+      m.noise.static_observations = noise.observations;
+    }
+  }
   if (result.batch && result.batch->estimate.chi2 > 0)
     m.log_chi2 = std::log(result.batch->estimate.chi2);
 
@@ -327,6 +372,19 @@ std::string SummarizeMetrics(const RunMetrics& m) {
                                    " landmarks)"
                              : "")
       << (m.objects.ate_m ? ", mean ATE " + std::to_string(*m.objects.ate_m) + " m" : "") << "\n";
+  if (m.objects.reported) {
+    s << "  reported objects: " << *m.objects.reported;
+    if (m.objects.precision)
+      s << " (" << m.objects.reported_on_movers.value_or(0) << " on a moving object; static "
+        << "landmarks in objects " << std::setprecision(2)
+        << 100.0 * m.objects.static_in_objects_fraction.value_or(NAN) << " %)" << std::setprecision(3);
+    s << "\n";
+  }
+  if (m.noise.static_chi2_per_dof)
+    s << "  noise: static residuals chi2/dof " << *m.noise.static_chi2_per_dof << " after cutting "
+      << std::setprecision(2) << 100.0 * m.noise.static_cut_fraction.value_or(NAN)
+      << " % of " << m.noise.static_observations.value_or(0) << " observations\n"
+      << std::setprecision(3);
   if (m.landmarks.rmse_m) s << "  landmarks: RMSE " << *m.landmarks.rmse_m << " m over " << m.landmarks.count.value_or(0) << " observations\n";
   if (m.log_chi2) s << "  log chi2: " << *m.log_chi2 << "\n";
   auto list = [](const std::vector<int>& v) {

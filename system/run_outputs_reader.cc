@@ -125,8 +125,9 @@ RunOutputs ReadRunOutputs(const std::string& out_dir) {
                   l.p_world = {ParseFinite(f[4], clusters, line, "x"),
                                ParseFinite(f[5], clusters, line, "y"),
                                ParseFinite(f[6], clusters, line, "z")};
-                  if (l.cluster < 0)
-                    throw InputError(clusters, line, "expected a cluster id >= 0 (0: static)");
+                  if (l.cluster < -1)
+                    throw InputError(clusters, line,
+                                     "expected a cluster id >= -1 (0: static, -1: outlier)");
                   if (l.cluster >= 1 && !outputs.clusters.count(l.cluster))
                     throw InputError(clusters, line,
                                      "cluster " + f[1] + " has no trajectory in " + index);

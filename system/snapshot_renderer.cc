@@ -23,7 +23,7 @@ constexpr int kDashPx = 8;
 constexpr int kLegendMargin = 12;  // px from the picture's corner
 
 std::string ClusterName(int cluster) {
-  if (cluster < 0) return "unclustered";
+  if (cluster < 0) return "outlier";
   if (cluster == 0) return "static";
   return "cluster " + std::to_string(cluster);
 }

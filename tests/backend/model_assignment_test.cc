@@ -20,6 +20,17 @@ struct Scene {
   std::vector<std::function<Pose(int)>> world_from_body;
 };
 
+// A cluster `label` over the first mover's frames that holds still in the world.
+void AddStillCluster(const Scene& sc, int label, MotionEstimate* est) {
+  ClusterMotion still = est->clusters[0];
+  still.cluster = label;
+  for (size_t k = 0; k < still.frames.size(); ++k) {
+    still.world_from_cluster[k] = Pose::Identity();
+    still.cam_from_cluster[k] = sc.s.world_from_cam[still.frames[k]].inverse();
+  }
+  est->clusters.push_back(still);
+}
+
 Scene MakeTwoMovers(int frames, int mover_points = 30) {
   Scene out;
   std::vector<TestBody> bodies(3);
@@ -108,14 +119,15 @@ TEST(ModelAssignment, MergesASplitBackgroundAndReassignsAMislabelledMover) {
       est.landmark_in_cluster[l] =
           sc.s.world_from_cam[tracks[l].samples[0].frame] * tracks[l].samples[0].point;
 
-  // The piece holds still: dissolved by the motion test, its landmarks fit static. Without that
-  // test the merge test folds it in.
+  // The piece holds still: dissolved by the motion tests, its landmarks fit static. Without
+  // them the merge test folds it in.
   ModelAssignmentOptions no_motion_test;
+  no_motion_test.test_moving = false;
   no_motion_test.min_relative_motion = 0;
   for (const ModelAssignmentOptions& o : {ModelAssignmentOptions{}, no_motion_test}) {
     const ModelAssignment a = AssignToMotionModels(tracks, labels, est, o);
-    EXPECT_EQ(a.dissolved, o.min_relative_motion > 0 ? 1 : 0);
-    EXPECT_EQ(a.merges, o.min_relative_motion > 0 ? 0 : 1);
+    EXPECT_EQ(a.dissolved, o.test_moving ? 1 : 0);
+    EXPECT_EQ(a.merges, o.test_moving ? 0 : 1);
     EXPECT_TRUE(a.outliers.empty());
     EXPECT_GE(a.reassigned, 5);
     EXPECT_EQ(testing::ClusteringAccuracy(a.labels, sc.s.truth), 1.0);
@@ -172,18 +184,58 @@ TEST(ModelAssignment, RelativeMotionIsZeroForAClusterHeldStillAndLargeForAMover)
                                  (sc.s.world_from_cam[0] * Eigen::Vector3d(0, 0, 6 + 0.01 * l));
   // Body 1 sweeps 3.2 m in 40 frames at ~5 m: RMS ≈ 3.2 / √12 ≈ 0.9 m, i.e. ~0.2 of the range.
   EXPECT_GT(RelativeMotion(est, sc.s.truth, 1), 0.1);
-  ClusterMotion still = est.clusters[0];
-  still.cluster = 3;
-  for (size_t k = 0; k < still.frames.size(); ++k) {
-    still.world_from_cluster[k] = Pose::Identity();
-    still.cam_from_cluster[k] = sc.s.world_from_cam[still.frames[k]].inverse();
-  }
-  est.clusters.push_back(still);
+  AddStillCluster(sc, 3, &est);
   std::vector<int> labels = sc.s.truth;
   for (size_t l = 0; l < labels.size(); l += 7)
     if (labels[l] == 0) labels[l] = 3;
   EXPECT_NEAR(RelativeMotion(est, labels, 3), 0.0, 1e-12);
   EXPECT_LT(RelativeMotion(est, labels, 4), 0.0);  // no such cluster
+}
+
+TEST(ModelAssignment, TheMovingTestPassesAMoverAndNotAPieceOfTheStaticWorld) {
+  const Scene sc = MakeTwoMovers(40);
+  const PointTracks tracks = BackProjectTracks(sc.s.table, sc.s.camera, {0, 40});
+  MotionEstimate est = TrueEstimate(sc, {0, 1, 2});
+  const MovingTestResult mover = TestClusterMoving(tracks, sc.s.truth, est, 1, {});
+  EXPECT_TRUE(mover.moving);
+  EXPECT_GT(mover.Statistic(), 10 * mover.threshold);
+  // Every 7th static landmark given a cluster of its own that holds still.
+  AddStillCluster(sc, 3, &est);
+  std::vector<int> labels = sc.s.truth;
+  for (size_t l = 0; l < labels.size(); l += 7)
+    if (labels[l] == 0) labels[l] = 3;
+  const MovingTestResult piece = TestClusterMoving(tracks, labels, est, 3, {});
+  EXPECT_GT(piece.landmarks, 5);
+  EXPECT_FALSE(piece.moving);
+  EXPECT_NEAR(piece.Statistic(), 0.0, 1e-6);  // the same motion: the same χ²
+  EXPECT_FALSE(TestClusterMoving(tracks, labels, est, 4, {}).moving);  // no such cluster
+}
+
+TEST(ModelAssignment, TheFinalCheckDissolvesAStillPieceIntoTheStaticWorldAndKeepsTheMovers) {
+  const Scene sc = MakeTwoMovers(40);
+  const PointTracks tracks = BackProjectTracks(sc.s.table, sc.s.camera, {0, 40});
+  MotionEstimate est = TrueEstimate(sc, {0, 1, 2});
+  AddStillCluster(sc, 3, &est);
+  est.landmark_cluster = sc.s.truth;
+  est.landmark_in_cluster.assign(sc.s.truth.size(), Eigen::Vector3d::Zero());
+  std::vector<int> piece;
+  for (size_t l = 0; l < est.landmark_cluster.size(); l += 7)
+    if (est.landmark_cluster[l] == 0 && tracks[l].samples.size() >= 4) {
+      est.landmark_cluster[l] = 3;
+      piece.push_back(static_cast<int>(l));
+    }
+  ASSERT_GE(piece.size(), 5u);
+  EXPECT_EQ(DissolveUnsupportedClusters(tracks, ModelAssignmentOptions{}, &est), 1);
+  ASSERT_EQ(est.clusters.size(), 2u);
+  // The static points are the scene's first 120 landmarks, fixed in the world.
+  const std::vector<Eigen::Vector3d> world = testing::RandomPoints(120, {-6, -2, 8}, {6, 2, 12}, 1);
+  for (int l : piece) {
+    EXPECT_EQ(est.landmark_cluster[l], 0) << l;
+    ASSERT_LT(l, 120);
+    EXPECT_LT((est.landmark_in_cluster[l] - world[l]).norm(), 0.2) << l;  // where its track says
+  }
+  for (size_t l = 0; l < sc.s.truth.size(); ++l)
+    if (sc.s.truth[l] >= 1) EXPECT_EQ(est.landmark_cluster[l], sc.s.truth[l]);
 }
 
 // Tracks that follow no physical point (each drifts its own way, like KLT on an occlusion
@@ -227,10 +279,13 @@ TEST(ModelAssignment, AGroupOfDriftingTracksIsDissolvedAndReclusteredOnlyUpToThe
   for (int l = 0; l < static_cast<int>(labels.size()); ++l)
     if (labels[l] != 3) EXPECT_EQ(a.labels[l], sc.s.truth[l]) << "landmark " << l;
 
-  // Without the dissolution the group stays a "moving" cluster of its own.
+  // Without the dissolution the group stays a "moving" cluster of its own. (The moving test
+  // would dissolve it too: a motion that explains its tracks worse than the static world's.)
+  EXPECT_FALSE(TestClusterMoving(tracks, labels, est, 3, o.moving_test).moving);
   ModelAssignmentOptions old = o;
   old.min_cluster_landmarks = 0;
   old.core_cluster_landmarks = 0;
+  old.test_moving = false;
   a = AssignToMotionModels(tracks, labels, est, old, &reclusterings);
   EXPECT_EQ(a.dissolved, 0);
 }
@@ -268,6 +323,9 @@ TEST(ModelAssignment, CheckNamesTheBadKey) {
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("model_assignment.max_reclusterings"), std::string::npos);
   }
+  o = ModelAssignmentOptions{};
+  o.moving_test.false_alarm = 0;
+  EXPECT_THROW(o.Check(), ConfigError);
   o = ModelAssignmentOptions{};
   o.min_relative_motion = -1;
   EXPECT_THROW(o.Check(), ConfigError);

@@ -127,6 +127,15 @@ TEST_F(RunOutputsReader, LandmarkOfAClusterWithoutTrajectoryIsNamed) {
   EXPECT_THAT(ErrorOf(), HasSubstr(clusters().string() + ":3: cluster 5 has no trajectory"));
 }
 
+TEST_F(RunOutputsReader, OutliersAreReadAndIdsBelowMinusOneAreNamed) {
+  testing::ReplaceLine(clusters(), "7,", "7,-1,0,5,1.5,-0.25,12");
+  const RunOutputs outputs = ReadRunOutputs(out_.string());
+  ASSERT_EQ(outputs.landmarks.size(), 2u);
+  EXPECT_EQ(outputs.landmarks[0].cluster, -1);
+  testing::ReplaceLine(clusters(), "7,", "7,-2,0,5,1.5,-0.25,12");
+  EXPECT_THAT(ErrorOf(), HasSubstr(clusters().string() + ":2: expected a cluster id >= -1"));
+}
+
 TEST_F(RunOutputsReader, MissingClusterTrajectoryIsNamed) {
   fs::remove(out_ / "objects" / "3.txt");
   EXPECT_THAT(ErrorOf(), HasSubstr((out_ / "objects" / "3.txt").string() + ": missing"));
