@@ -37,6 +37,7 @@ int Run(const RunArgs& args) {
   PrepareOutputFolder(out);
   AttachLogFile(out + "/run.log");
   log->info("{} ({}, {} frames) → {}", input.path, input.kind, input.num_frames(), out);
+  log->info("configuration: {}", options.source);
   log->info("effective configuration:\n{}", options.ToYaml());
 
   StopFlag stop;

@@ -70,7 +70,7 @@ PipelineOptions RunFlags::Resolve(const RunInput& input) const {
     p = "outdoor";
     if (input.synthetic && input.synthetic->name.rfind("indoor", 0) == 0) p = "indoor";
   }
-  PipelineOptions o = LoadPipelineOptions(p, config);
+  PipelineOptions o = LoadPipelineOptions(p, config, input.kind);
   if (!preset.empty()) o.ApplyPreset(preset);
   if (!method.empty()) o.method = method;
   if (!ablation.empty()) o.ApplyAblation(ablation);

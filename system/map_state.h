@@ -114,6 +114,8 @@ class MapState {
   /// World position of a landmark at `frame` (for moving clusters, the cluster's pose then;
   /// nullopt when the cluster has no pose at that frame).
   std::optional<Eigen::Vector3d> WorldPosition(int landmark, int frame) const;
+  /// Landmarks known to the map.
+  int num_landmarks() const { return static_cast<int>(landmarks_.size()); }
   /// Landmark ids known to the map, ascending.
   std::vector<int> Landmarks() const;
   /// Takes moving cluster `id` out of the map: its landmarks become outliers (cluster -1),

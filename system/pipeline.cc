@@ -138,6 +138,8 @@ class BackendStage {
     stats.integration = map_.Integrate(result.estimate);
     stats.integrate_ms = timer.ElapsedMs();
     stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
+    stats.map_clusters = static_cast<int>(map_.clusters().size());
+    stats.map_landmarks = map_.num_landmarks();
     timer.Reset();
     if (renders_.enabled())
       renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range);

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/errors.h"
+#include "system/builtin_configs.h"
 
 namespace cslam {
 
@@ -141,10 +142,22 @@ std::string PipelineOptions::ToYaml() const {
   return dump.Dump();
 }
 
-PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file) {
+PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file,
+                                    const std::string& input_kind) {
   PipelineOptions o;
   o.ApplyPreset(preset);
+  const std::optional<BuiltinConfig> builtin =
+      config_file.empty() ? BuiltinConfigFor(input_kind) : std::nullopt;
+  if (builtin) {
+    YAML::Node node = YAML::Load(builtin->yaml);
+    node.remove("output");  // renders stay as the defaults say
+    OptionsReader r(node, "built-in " + builtin->name);
+    o.Load(r);
+    o.source = "built-in " + builtin->name + " (recommended for " + input_kind +
+               " input; its output section not applied)";
+  }
   if (!config_file.empty()) {
+    o.source = config_file;
     auto r = OptionsReader::FromFile(config_file);
     o.Load(r);
     // A value out of range came from the file: name it (Check() only knows the key).

@@ -112,6 +112,9 @@ struct PipelineOptions {
   /// Set by the command, not read from YAML: the run's output folder, where snapshots and
   /// overlays are written during the run ("" = none are rendered).
   std::string out_dir;
+  /// Where the settings came from ("built-in defaults", a file, or a built-in config): for
+  /// run.log and the first line of OUT/config.yaml. Not an option.
+  std::string source = "built-in defaults";
 
   void Check() const;
   /// Reads a YAML tree; `preset` is read first so the backend section overrides its values.
@@ -124,6 +127,9 @@ struct PipelineOptions {
 };
 
 /// Defaults for a preset, optionally overridden by a YAML file ("" = none).
-PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file);
+/// The preset's defaults, then `config_file` when given, else the recommended configuration
+/// of `input_kind` (system/builtin_configs.h) when there is one.
+PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file,
+                                    const std::string& input_kind = "");
 
 }  // namespace cslam

@@ -142,7 +142,9 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
   WriteLandmarkClouds(cloud, (out / "landmarks.ply").string(), (out / "landmarks.pcd").string());
 
   WriteFileAtomically((out / "config.yaml").string(),
-                      [&](std::ostream& o) { o << options.ToYaml(); });
+                      [&](std::ostream& o) {
+                        o << "# configuration: " << options.source << "\n" << options.ToYaml();
+                      });
 
   if (options.output.trajectory_plot) {
     try {
@@ -154,6 +156,17 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     }
   }
 
+  // What each window cost and how big the map was after it: a long run's cost must not grow
+  // with its history.
+  WriteFileAtomically((out / "windows.csv").string(), [&](std::ostream& o) {
+    o << "first_frame,last_frame,failed,backend_ms,integrate_ms,window_clusters,map_clusters,"
+         "map_landmarks\n";
+    o << std::setprecision(6);
+    for (const WindowStats& w : result.windows)
+      o << w.range.begin << "," << w.range.end - 1 << "," << (w.failed ? 1 : 0) << ","
+        << w.backend_ms << "," << w.integrate_ms << "," << w.clusters << "," << w.map_clusters
+        << "," << w.map_landmarks << "\n";
+  });
   WriteResourceLog(result.resources, out_dir, options.output.trajectory_plot);
   if (metrics) WriteMetricsJson(*metrics, (out / "metrics.json").string());
 }

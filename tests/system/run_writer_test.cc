@@ -74,5 +74,35 @@ TEST(RunWriter, LeavesOutAClusterWhoseLandmarksAllWentElsewhere) {
   EXPECT_TRUE(fs::exists(second / "camera_trajectory.txt"));
 }
 
+TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCameFrom) {
+  PipelineResult result;
+  result.map.Integrate(Window({0, 10}, true));
+  WindowStats a;
+  a.range = {0, 10};
+  a.backend_ms = 12.5;
+  a.integrate_ms = 0.25;
+  a.clusters = 1;
+  a.map_clusters = 1;
+  a.map_landmarks = 10;
+  WindowStats b = a;
+  b.range = {5, 15};
+  b.failed = true;
+  result.windows = {a, b};
+  testing::TempDir tmp("run_writer_windows");
+  RunInput input;
+  input.timestamps.assign(15, 0.0);
+  PipelineOptions options;
+  options.source = "built-in configs/kitti_raw.yaml";
+  WriteRunOutputs(input, result, options, tmp.path().string(), nullptr);
+  const auto lines = testing::Lines(testing::ReadText(tmp.path() / "windows.csv"));
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[0], "first_frame,last_frame,failed,backend_ms,integrate_ms,window_clusters,"
+                      "map_clusters,map_landmarks");
+  EXPECT_EQ(lines[1], "0,9,0,12.5,0.25,1,1,10");
+  EXPECT_EQ(lines[2], "5,14,1,12.5,0.25,1,1,10");
+  EXPECT_EQ(testing::Lines(testing::ReadText(tmp.path() / "config.yaml"))[0],
+            "# configuration: built-in configs/kitti_raw.yaml");
+}
+
 }  // namespace
 }  // namespace cslam
