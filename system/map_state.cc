@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "core/errors.h"
 #include "core/logging.h"
@@ -28,6 +29,8 @@ void MapStateOptions::Check() const {
               report_min_landmarks);
   CheckOption(report_min_frames >= 1, "map.report_min_frames", "must be at least 1",
               report_min_frames);
+  CheckOption(retire_after_frames >= 0, "map.retire_after_frames", "must be >= 0 (0: never)",
+              retire_after_frames);
   CheckOption(refine_camera_from >= 0, "map.refine_camera_from", "must be >= 0 (0: off)",
               refine_camera_from);
 }
@@ -46,39 +49,66 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("refine_camera_from", &refine_camera_from);
   r.Read("report_min_landmarks", &report_min_landmarks);
   r.Read("report_min_frames", &report_min_frames);
+  r.Read("retire_after_frames", &retire_after_frames);
   r.Finish();
 }
 
 MapState::MapState(MapStateOptions options) : options_(options) { options_.Check(); }
 
+const MapState::LandmarkState* MapState::Find(int landmark) const {
+  if (const auto it = landmarks_.find(landmark); it != landmarks_.end()) return &it->second;
+  if (const auto it = retired_.find(landmark); it != retired_.end()) return &it->second;
+  return nullptr;
+}
+
 int MapState::ClusterOf(int landmark) const {
-  const auto it = landmarks_.find(landmark);
-  return it == landmarks_.end() ? -1 : it->second.cluster;
+  const LandmarkState* state = Find(landmark);
+  return state ? state->cluster : -1;
 }
 
 std::optional<Eigen::Vector3d> MapState::PositionInCluster(int landmark) const {
-  const auto it = landmarks_.find(landmark);
-  if (it == landmarks_.end()) return std::nullopt;
-  return it->second.p_in_cluster;
+  const LandmarkState* state = Find(landmark);
+  if (!state) return std::nullopt;
+  return state->p_in_cluster;
 }
 
 std::optional<Eigen::Vector3d> MapState::WorldPosition(int landmark, int frame) const {
-  const auto it = landmarks_.find(landmark);
-  if (it == landmarks_.end()) return std::nullopt;
-  if (it->second.cluster <= 0) return it->second.p_in_cluster;
-  const auto c = clusters_.find(it->second.cluster);
+  const LandmarkState* state = Find(landmark);
+  if (!state) return std::nullopt;
+  if (state->cluster <= 0) return state->p_in_cluster;
+  const auto c = clusters_.find(state->cluster);
   if (c == clusters_.end()) return std::nullopt;
   const auto pose = c->second.world_from_cluster.find(frame);
   if (pose == c->second.world_from_cluster.end()) return std::nullopt;
-  return pose->second * it->second.p_in_cluster;
+  return pose->second * state->p_in_cluster;
 }
 
 std::vector<int> MapState::Landmarks() const {
   std::vector<int> ids;
-  ids.reserve(landmarks_.size());
+  ids.reserve(landmarks_.size() + retired_.size());
   for (const auto& [id, state] : landmarks_) ids.push_back(id);
+  for (const auto& [id, state] : retired_) ids.push_back(id);
   std::sort(ids.begin(), ids.end());
   return ids;
+}
+
+int MapState::NumLiveClusters() const {
+  std::set<int> live;
+  for (const auto& [id, state] : landmarks_)
+    if (state.cluster >= 1) live.insert(state.cluster);
+  return static_cast<int>(live.size());
+}
+
+void MapState::RetireBefore(int frame) {
+  for (auto it = landmarks_.begin(); it != landmarks_.end();) {
+    if (it->second.last_frame >= frame) {
+      ++it;
+      continue;
+    }
+    if (it->second.cluster >= 1) retired_by_cluster_[it->second.cluster].push_back(it->first);
+    retired_.emplace(it->first, it->second);
+    it = landmarks_.erase(it);
+  }
 }
 
 void MapState::ReleaseCluster(int id) {
@@ -86,11 +116,13 @@ void MapState::ReleaseCluster(int id) {
   if (id < 1 || c == clusters_.end()) return;
   const Pose last = c->second.world_from_cluster.empty() ? Pose::Identity()
                                                          : c->second.world_from_cluster.rbegin()->second;
-  for (auto& [l, state] : landmarks_) {
-    if (state.cluster != id) continue;
-    state.cluster = -1;
-    state.p_in_cluster = last * state.p_in_cluster;
-  }
+  for (auto* states : {&landmarks_, &retired_})
+    for (auto& [l, state] : *states) {
+      if (state.cluster != id) continue;
+      state.cluster = -1;
+      state.p_in_cluster = last * state.p_in_cluster;
+    }
+  retired_by_cluster_.erase(id);
   clusters_.erase(c);
 }
 
@@ -103,6 +135,8 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   WindowIntegration info;
   info.range = window.range;
   const int begin = window.range.begin;
+  window_last_frame_ = window.range.end - 1;
+  if (options_.retire_after_frames > 0) RetireBefore(begin - options_.retire_after_frames);
   CSLAM_CHECK(static_cast<int>(window.world_from_cam.size()) == window.range.size(),
               "window estimate needs one camera pose per frame");
 
@@ -337,7 +371,13 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
 }
 
 void MapState::Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster) {
+  if (const auto r = retired_.find(landmark); r != retired_.end()) {  // seen again: live again
+    if (r->second.cluster >= 1) std::erase(retired_by_cluster_[r->second.cluster], landmark);
+    landmarks_.emplace(landmark, r->second);
+    retired_.erase(r);
+  }
   auto& state = landmarks_.try_emplace(landmark).first->second;
+  state.last_frame = window_last_frame_;
   if (state.cluster >= 1 && state.cluster != cluster) {
     auto it = clusters_.find(state.cluster);
     if (it != clusters_.end()) --it->second.num_landmarks;
@@ -358,7 +398,25 @@ std::map<int, std::vector<int>> MapState::MembersByCluster() const {
 void MapState::MergeInto(int older, int younger, const Pose& older_from_younger) {
   const auto members = MembersByCluster();
   if (const auto it = members.find(younger); it != members.end())
-    for (int l : it->second) Assign(l, older, older_from_younger * landmarks_[l].p_in_cluster);
+    for (int l : it->second) {
+      const int last = landmarks_[l].last_frame;
+      Assign(l, older, older_from_younger * landmarks_[l].p_in_cluster);
+      landmarks_[l].last_frame = last;  // a merge is no sighting
+    }
+  if (const auto it = retired_by_cluster_.find(younger); it != retired_by_cluster_.end()) {
+    // Retired landmarks follow their cluster (counted as members by the Assign above: none).
+    for (int l : it->second) {
+      LandmarkState& state = retired_.at(l);
+      state.cluster = older;
+      state.p_in_cluster = older_from_younger * state.p_in_cluster;
+      if (older >= 1) ++clusters_[older].num_landmarks;
+    }
+    if (older >= 1) {
+      auto& target = retired_by_cluster_[older];
+      target.insert(target.end(), it->second.begin(), it->second.end());
+    }
+    retired_by_cluster_.erase(it);
+  }
   if (older >= 1) {
     MapCluster& o = clusters_[older];
     const Pose younger_from_older = older_from_younger.inverse();

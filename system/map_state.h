@@ -70,6 +70,11 @@ struct MapStateOptions {
   /// ones are outliers (cluster -1): a few points or a few frames say too little about a body.
   int report_min_landmarks = 5;
   int report_min_frames = 10;
+  /// A landmark no window has labelled for this many frames is retired: it keeps its cluster
+  /// and position for the outputs, but association, merging and stitching no longer look at
+  /// it, so their cost does not grow with the run's length. A moving cluster whose landmarks
+  /// are all retired is final. 0 = never.
+  int retire_after_frames = 60;
   void Check() const;
   void Load(OptionsReader& r);
 };
@@ -114,8 +119,12 @@ class MapState {
   /// World position of a landmark at `frame` (for moving clusters, the cluster's pose then;
   /// nullopt when the cluster has no pose at that frame).
   std::optional<Eigen::Vector3d> WorldPosition(int landmark, int frame) const;
-  /// Landmarks known to the map.
-  int num_landmarks() const { return static_cast<int>(landmarks_.size()); }
+  /// Landmarks known to the map, live and retired.
+  int num_landmarks() const { return static_cast<int>(landmarks_.size() + retired_.size()); }
+  /// Landmarks a window labelled within the last retire_after_frames frames.
+  int num_live_landmarks() const { return static_cast<int>(landmarks_.size()); }
+  /// Moving clusters with at least one live landmark.
+  int NumLiveClusters() const;
   /// Landmark ids known to the map, ascending.
   std::vector<int> Landmarks() const;
   /// Takes moving cluster `id` out of the map: its landmarks become outliers (cluster -1),
@@ -128,7 +137,11 @@ class MapState {
   struct LandmarkState {
     int cluster = -1;
     Eigen::Vector3d p_in_cluster = Eigen::Vector3d::Zero();
+    int last_frame = -1;  ///< last frame of the last window that labelled it
   };
+  const LandmarkState* Find(int landmark) const;
+  /// Moves the landmarks last labelled before `frame` from landmarks_ to retired_.
+  void RetireBefore(int frame);
   void SetCameraPose(int frame, const Pose& world_from_cam);
   void Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster);
   /// Landmarks of every cluster (moving and static), in their cluster's frame.
@@ -141,7 +154,10 @@ class MapState {
 
   MapStateOptions options_;
   std::vector<std::optional<Pose>> world_from_cam_;
-  std::unordered_map<int, LandmarkState> landmarks_;
+  std::unordered_map<int, LandmarkState> landmarks_;  ///< live
+  std::unordered_map<int, LandmarkState> retired_;
+  std::unordered_map<int, std::vector<int>> retired_by_cluster_;  ///< moving clusters only
+  int window_last_frame_ = -1;  ///< of the window being integrated
   std::map<int, MapCluster> clusters_;
   std::vector<int> gaps_;
   int next_cluster_id_ = 1;

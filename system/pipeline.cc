@@ -1,5 +1,7 @@
 #include "system/pipeline.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -138,8 +140,12 @@ class BackendStage {
     stats.integration = map_.Integrate(result.estimate);
     stats.integrate_ms = timer.ElapsedMs();
     stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
-    stats.map_clusters = static_cast<int>(map_.clusters().size());
-    stats.map_landmarks = map_.num_landmarks();
+    stats.live_clusters = map_.NumLiveClusters();
+    stats.live_landmarks = map_.num_live_landmarks();
+    // A window's transient peaks (HAC's distance lists, the solves) leave freed pages that
+    // glibc keeps in the thread's arena; give them back so a long run's resident memory
+    // follows what it holds, not the sum of its peaks' fragments.
+    malloc_trim(0);
     timer.Reset();
     if (renders_.enabled())
       renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range);

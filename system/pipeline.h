@@ -35,8 +35,8 @@ struct WindowStats {
   double integrate_cpu_ms = 0.0;  ///< CPU time of the backend thread over integrate_ms
   double render_ms = 0.0;     ///< preparing and queuing the due snapshots / overlays
   int clusters = 0;           ///< moving clusters found in the window
-  int map_clusters = 0;       ///< moving clusters in the map after integrating the window
-  int map_landmarks = 0;      ///< landmarks in the map after integrating the window
+  int live_clusters = 0;      ///< the map's moving clusters with a live landmark afterwards
+  int live_landmarks = 0;     ///< the map's live (not retired) landmarks afterwards
   bool failed = false;        ///< discarded (solver failure, non-finite poses, too few landmarks)
   WindowIntegration integration;
 };

@@ -395,3 +395,86 @@ TEST(MapState, OptionsRejectANegativeRefinementIndex) {
 
 }  // namespace
 }  // namespace cslam
+
+namespace cslam {
+namespace {
+
+// A window over `range`: camera driving along z, `statics` static landmarks with ids from
+// `first_id`, and (when `mover` ≥ 1) cluster `mover`'s 6 landmarks 100.. sliding along x.
+MotionEstimate RetireWindow(FrameRange range, int first_id, int statics, int mover) {
+  MotionEstimate e;
+  e.range = range;
+  Pose window_from_world = Pose::Identity();
+  window_from_world.translation() = Eigen::Vector3d(0, 0, -1.0 * range.begin);
+  for (int f = range.begin; f < range.end; ++f) {
+    Pose p = Pose::Identity();
+    p.translation() = Eigen::Vector3d(0, 0, f);
+    e.world_from_cam.push_back(window_from_world * p);
+  }
+  e.landmark_cluster.assign(110, -1);
+  e.landmark_in_cluster.assign(110, Eigen::Vector3d::Constant(NAN));
+  for (int l = first_id; l < first_id + statics; ++l) {
+    e.landmark_cluster[l] = 0;
+    e.landmark_in_cluster[l] = window_from_world * Eigen::Vector3d(l % 5, 1, 10 + l);
+  }
+  if (mover >= 1) {
+    ClusterMotion m;
+    m.cluster = mover;
+    for (int f = range.begin; f < range.end; ++f) {
+      Pose body = Pose::Identity();
+      body.translation() = Eigen::Vector3d(0.5 * f, 0, 0);
+      m.frames.push_back(f);
+      m.world_from_cluster.push_back(window_from_world * body);
+      m.cam_from_cluster.push_back(e.world_from_cam[f - range.begin].inverse() * m.world_from_cluster.back());
+    }
+    e.clusters.push_back(m);
+    for (int l = 100; l < 106; ++l) {
+      e.landmark_cluster[l] = mover;
+      e.landmark_in_cluster[l] = Eigen::Vector3d(l - 100, 0, 15);
+    }
+  }
+  return e;
+}
+
+TEST(MapState, LandmarksUnseenForAWhileAreRetiredButKeptForTheOutputs) {
+  MapStateOptions options;
+  options.retire_after_frames = 20;
+  MapState map(options);
+  map.Integrate(RetireWindow({0, 10}, 0, 30, 1));  // statics 0..29 and the mover
+  EXPECT_EQ(map.num_live_landmarks(), 36);
+  EXPECT_EQ(map.NumLiveClusters(), 1);
+  map.Integrate(RetireWindow({10, 20}, 30, 30, 0));  // statics 30..59 only
+  EXPECT_EQ(map.num_live_landmarks(), 66);           // the first window is 10 frames back
+  map.Integrate(RetireWindow({35, 45}, 60, 30, 0));  // 25 frames after the first window ended
+  EXPECT_EQ(map.num_live_landmarks(), 60);           // 0..29 and the mover's 6 retired
+  EXPECT_EQ(map.NumLiveClusters(), 0);
+  EXPECT_EQ(map.num_landmarks(), 96);
+  // Retired landmarks keep their cluster and place; the cluster keeps its trajectory.
+  ASSERT_EQ(map.clusters().size(), 1u);
+  const int id = map.clusters().begin()->first;
+  EXPECT_EQ(map.clusters().at(id).num_landmarks, 6);
+  EXPECT_EQ(map.ClusterOf(100), id);
+  EXPECT_EQ(map.ClusterOf(3), 0);
+  EXPECT_TRUE(map.WorldPosition(3, 40)->isApprox(Eigen::Vector3d(3, 1, 13), 1e-9));
+  EXPECT_EQ(static_cast<int>(map.Landmarks().size()), 96);
+  // Released at the end like any unreported cluster: its retired landmarks become outliers.
+  map.ReleaseCluster(id);
+  EXPECT_EQ(map.ClusterOf(100), -1);
+  // A landmark seen again is live again (0..4), while 30..59, last labelled at frame 19,
+  // retire now: 60..89 and 0..4 are live.
+  map.Integrate(RetireWindow({40, 50}, 0, 5, 0));
+  EXPECT_EQ(map.num_live_landmarks(), 35);
+  EXPECT_EQ(map.ClusterOf(2), 0);
+}
+
+TEST(MapState, NeverRetiringKeepsEveryLandmarkLive) {
+  MapStateOptions options;
+  options.retire_after_frames = 0;
+  MapState map(options);
+  map.Integrate(RetireWindow({0, 10}, 0, 30, 1));
+  map.Integrate(RetireWindow({100, 110}, 30, 30, 0));
+  EXPECT_EQ(map.num_live_landmarks(), 66);
+}
+
+}  // namespace
+}  // namespace cslam

@@ -82,8 +82,8 @@ TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCam
   a.backend_ms = 12.5;
   a.integrate_ms = 0.25;
   a.clusters = 1;
-  a.map_clusters = 1;
-  a.map_landmarks = 10;
+  a.live_clusters = 1;
+  a.live_landmarks = 10;
   WindowStats b = a;
   b.range = {5, 15};
   b.failed = true;
@@ -97,7 +97,7 @@ TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCam
   const auto lines = testing::Lines(testing::ReadText(tmp.path() / "windows.csv"));
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0], "first_frame,last_frame,failed,backend_ms,integrate_ms,window_clusters,"
-                      "map_clusters,map_landmarks");
+                      "live_clusters,live_landmarks");
   EXPECT_EQ(lines[1], "0,9,0,12.5,0.25,1,1,10");
   EXPECT_EQ(lines[2], "5,14,1,12.5,0.25,1,1,10");
   EXPECT_EQ(testing::Lines(testing::ReadText(tmp.path() / "config.yaml"))[0],
