@@ -89,7 +89,11 @@ void TrackletTable::ForgetBefore(int frame) {
     auto& obs = by_landmark_[landmark];
     obs.erase(obs.begin(), obs.begin() + n);
     // A finished track frees its memory; a live one only when it holds far more than it uses.
-    if (obs.capacity() > 2 * obs.size() + 8) obs.shrink_to_fit();
+    // (Short tracks, the most common, never reach the slack: free an emptied one outright.)
+    if (obs.empty())
+      std::vector<StereoObservation>().swap(obs);
+    else if (obs.capacity() > 2 * obs.size() + 8)
+      obs.shrink_to_fit();
   }
   for (int f = frame; f < num_frames(); ++f)
     for (ObservationRef& ref : by_frame_[f]) {
