@@ -439,7 +439,11 @@ class Solve {
     ++summary->num_solves;
     if (s.termination_type == ceres::FAILURE) {
       summary->usable = false;
-      GetLogger("backend")->warn("bundle adjustment solve failed: {}", s.message);
+      summary->why = "solve " + label_ + " failed: " + s.message;
+    } else if (!std::isfinite(s.final_cost) || s.final_cost > s.initial_cost) {
+      summary->usable = false;
+      summary->why = "solve " + label_ + " ended at cost " + std::to_string(s.final_cost) +
+                     " from " + std::to_string(s.initial_cost);
     }
   }
 
@@ -491,7 +495,11 @@ class Solve {
     ++summary->num_solves;
     if (s.failed) {
       summary->usable = false;
-      log->warn("bundle adjustment solve failed: a point is not in front of a camera");
+      summary->why = "solve " + label_ + " failed: a point is not in front of a camera";
+    } else if (!std::isfinite(s.final_cost) || s.final_cost > s.initial_cost) {
+      summary->usable = false;
+      summary->why = "solve " + label_ + " ended at cost " + std::to_string(s.final_cost) +
+                     " from " + std::to_string(s.initial_cost);
     }
   }
 
@@ -606,6 +614,7 @@ class Adjuster {
       for (const BundleAdjustmentSummary& part : parts) {
         summary.iterations += part.iterations;
         summary.num_solves += part.num_solves;
+        if (!part.usable && summary.usable) summary.why = part.why;
         summary.usable = summary.usable && part.usable;
       }
     } else {
@@ -853,6 +862,22 @@ class Adjuster {
 
 }  // namespace
 
+namespace {
+
+// A solve that failed or whose cost grew must not feed the next step: the estimate goes back
+// to what was given, marked, and the log says so.
+void FallBackWhenUnusable(const BundleAdjustmentSummary& summary, const MotionEstimate& given,
+                          const char* what, MotionEstimate* estimate) {
+  if (summary.usable) return;
+  *estimate = given;
+  estimate->adjustment_failed = true;
+  GetLogger("backend")->warn("{} over frames {}..{} not usable ({}): the estimate it was given "
+                             "is kept and marked", what, estimate->range.begin,
+                             estimate->range.end - 1, summary.why);
+}
+
+}  // namespace
+
 BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCamera& camera,
                                      const BundleAdjustmentOptions& options,
                                      MotionEstimate* estimate, const std::vector<bool>* held_out,
@@ -862,8 +887,10 @@ BundleAdjustmentSummary AdjustBundle(const TrackletTable& table, const StereoCam
   CSLAM_CHECK(estimate->landmark_cluster.size() == estimate->landmark_in_cluster.size(),
               "AdjustBundle: landmark_cluster and landmark_in_cluster must be parallel");
   const double initial = EvaluateChi2(table, camera, estimate);
+  const MotionEstimate given = *estimate;
   BundleAdjustmentSummary summary =
       Adjuster(table, camera, options, estimate, held_out, fixed_cameras).Run();
+  FallBackWhenUnusable(summary, given, "bundle adjustment", estimate);
   summary.initial_chi2 = initial;
   summary.final_chi2 = EvaluateChi2(table, camera, estimate);
   summary.num_residuals = estimate->num_residuals;
@@ -876,8 +903,10 @@ BundleAdjustmentSummary AdjustClusterMotions(const TrackletTable& table, const S
   CSLAM_CHECK(static_cast<int>(estimate->world_from_cam.size()) == estimate->range.size(),
               "AdjustClusterMotions: world_from_cam must have one pose per frame of the range");
   const double initial = EvaluateChi2(table, camera, estimate);
+  const MotionEstimate given = *estimate;
   BundleAdjustmentSummary summary =
       Adjuster(table, camera, options, estimate, nullptr, nullptr, true).Run();
+  FallBackWhenUnusable(summary, given, "cluster-motion adjustment", estimate);
   summary.initial_chi2 = initial;
   summary.final_chi2 = EvaluateChi2(table, camera, estimate);
   summary.num_residuals = estimate->num_residuals;

@@ -10,6 +10,7 @@
 // its first well-observed frame is held fixed (a cluster's frame is arbitrary up to SE(3)).
 // A pose seen by fewer than `min_observations_per_pose` observations is held at its
 // initial value (its carried-forward estimate): it cannot be determined from them.
+#include <string>
 #include <vector>
 
 #include "backend/bundle_adjustment_options.h"
@@ -26,7 +27,11 @@ struct BundleAdjustmentSummary {
   int num_residuals = 0;      ///< observations counted in the χ² values
   int iterations = 0;         ///< LM iterations summed over the solves
   int num_solves = 0;
-  bool usable = true;  ///< false when a Ceres solve reported FAILURE
+  /// false when a solve failed (Ceres FAILURE, a point behind a camera) or ended above its
+  /// starting cost; the estimate was then given back unchanged and marked
+  /// (MotionEstimate::adjustment_failed).
+  bool usable = true;
+  std::string why;  ///< the first unusable solve and what happened
 };
 
 /// Refines `estimate` in place (see the header comment for the frames and the gauge).

@@ -31,6 +31,9 @@ struct MotionEstimate {
   std::vector<ClusterMotion> clusters;               ///< moving clusters, ascending label
   double chi2 = 0.0;         ///< Σ squared Mahalanobis reprojection error, no robust kernel
   int num_residuals = 0;     ///< observations in chi2
+  /// A bundle adjustment of this estimate was not usable: it holds what that adjustment was
+  /// given (the shape initialisation or the previous estimate) instead.
+  bool adjustment_failed = false;
 
   /// The moving cluster with `label`, or nullptr.
   const ClusterMotion* FindCluster(int label) const;

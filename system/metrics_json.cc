@@ -102,6 +102,7 @@ nlohmann::json ToJson(const RunMetrics& m) {
   j["run"] = {{"interrupted", m.run.interrupted},
               {"windows", m.run.windows},
               {"failed_windows", m.run.failed_windows},
+              {"adjustment_failed_windows", m.run.adjustment_failed_windows},
               {"tracking_lost", m.run.tracking_lost},
               {"gaps", m.run.gaps}};
   j["calibration"] = {
@@ -211,6 +212,7 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
       m.run.interrupted = r.value("interrupted", false);
       m.run.windows = r.value("windows", 0);
       m.run.failed_windows = r.value("failed_windows", std::vector<int>{});
+      m.run.adjustment_failed_windows = r.value("adjustment_failed_windows", std::vector<int>{});
       m.run.tracking_lost = r.value("tracking_lost", std::vector<int>{});
       m.run.gaps = r.value("gaps", std::vector<int>{});
     }

@@ -69,6 +69,8 @@ struct RunMetrics {
     bool interrupted = false;            ///< stopped by SIGINT/SIGTERM before the end
     int windows = 0;                     ///< backend windows run
     std::vector<int> failed_windows;     ///< first frame of each discarded window
+    /// first frame of each window integrated without its bundle adjustment (not usable)
+    std::vector<int> adjustment_failed_windows;
     std::vector<int> tracking_lost;      ///< frames where the frontend lost every track
     std::vector<int> gaps;               ///< frames where the trajectory was chained without overlap
   };

@@ -122,6 +122,11 @@ class BackendStage {
     if (workers) stats.worker_cpu_ms = workers->HelperCpuMs() - worker_cpu_start;
     stats.warm_started = result.warm_started;
     stats.clusters = static_cast<int>(result.estimate.clusters.size());
+    stats.adjustment_failed = result.estimate.adjustment_failed;
+    if (stats.adjustment_failed)
+      GetLogger("system")->warn("window {}..{}: its bundle adjustment was not usable; integrated "
+                                "with the estimate before it (windows.csv, metrics.json "
+                                "run.adjustment_failed_windows)", range.begin, range.end - 1);
     const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
     if (!sanity.usable) {
       stats.failed = true;

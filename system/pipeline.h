@@ -38,6 +38,8 @@ struct WindowStats {
   int live_clusters = 0;      ///< the map's moving clusters with a live landmark afterwards
   int live_landmarks = 0;     ///< the map's live (not retired) landmarks afterwards
   bool failed = false;        ///< discarded (solver failure, non-finite poses, too few landmarks)
+  bool adjustment_failed = false;  ///< its final bundle adjustment was not usable: integrated
+                                   ///< with the estimate that adjustment was given
   WindowIntegration integration;
 };
 

@@ -323,6 +323,8 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   m.run.windows = static_cast<int>(result.windows.size());
   for (const auto& w : result.windows)
     if (w.failed) m.run.failed_windows.push_back(w.range.begin);
+  for (const auto& w : result.windows)
+    if (w.adjustment_failed) m.run.adjustment_failed_windows.push_back(w.range.begin);
   for (const auto& f : result.frontend_frames)
     if (f.tracking_lost) m.run.tracking_lost.push_back(f.frame);
   m.run.gaps = result.map.gaps();

@@ -159,11 +159,12 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
   // What each window cost and how big the map was after it: a long run's cost must not grow
   // with its history.
   WriteFileAtomically((out / "windows.csv").string(), [&](std::ostream& o) {
-    o << "first_frame,last_frame,failed,backend_ms,integrate_ms,window_clusters,live_clusters,"
-         "live_landmarks\n";
+    o << "first_frame,last_frame,failed,adjustment_failed,backend_ms,integrate_ms,"
+         "window_clusters,live_clusters,live_landmarks\n";
     o << std::setprecision(6);
     for (const WindowStats& w : result.windows)
       o << w.range.begin << "," << w.range.end - 1 << "," << (w.failed ? 1 : 0) << ","
+        << (w.adjustment_failed ? 1 : 0) << ","
         << w.backend_ms << "," << w.integrate_ms << "," << w.clusters << "," << w.live_clusters
         << "," << w.live_landmarks << "\n";
   });

@@ -60,6 +60,45 @@ TEST(BundleAdjustment, LowersChi2AndMovesPosesTowardsTheTruth) {
   EXPECT_DOUBLE_EQ(est.chi2, s.final_chi2);
 }
 
+// A solve that cannot be used (here: one observation's covariance is NaN, as a broken
+// covariance model would give) leaves the estimate as it was given, marked, on either solver;
+// the same scene without it adjusts normally.
+TEST(BundleAdjustment, AnUnusableSolveGivesBackTheEstimateItWasGivenMarked) {
+  BodySceneSpec spec;
+  spec.pixel_sigma = 1.5;
+  const BodyScene scene = MakeBodyScene(spec);
+  int bad_landmark = 0;  // a static landmark seen at frame 3
+  while (scene.labels[bad_landmark] != 0 ||
+         scene.table.ObservationsOf(bad_landmark, {3, 4}).empty())
+    ++bad_landmark;
+  TrackletTable broken;
+  for (int l = 0; l < scene.table.num_landmarks(); ++l)
+    for (const StereoObservation& o : scene.table.ObservationsOf(l))
+      broken.Add(l, o.frame, o.x,
+                 l == bad_landmark && o.frame == 3 ? Eigen::Matrix3d::Constant(NAN) : o.cov);
+  for (const bool native : {true, false}) {
+    SCOPED_TRACE(native ? "native solver" : "Ceres");
+    BundleAdjustmentOptions o;
+    o.native_dense_solver = native;
+    MotionEstimate good = Initialise(scene);
+    EXPECT_TRUE(AdjustBundle(scene.table, scene.camera, o, &good).usable);
+    EXPECT_FALSE(good.adjustment_failed);
+
+    MotionEstimate bad = Initialise(scene);
+    const MotionEstimate given = bad;
+    const BundleAdjustmentSummary s = AdjustBundle(broken, scene.camera, o, &bad);
+    EXPECT_FALSE(s.usable);
+    EXPECT_FALSE(s.why.empty());
+    EXPECT_TRUE(bad.adjustment_failed);
+    ASSERT_EQ(bad.world_from_cam.size(), given.world_from_cam.size());
+    for (size_t k = 0; k < bad.world_from_cam.size(); ++k)
+      EXPECT_TRUE(bad.world_from_cam[k].isApprox(given.world_from_cam[k], 0.0)) << k;
+    for (size_t i = 0; i < bad.landmark_in_cluster.size(); ++i)
+      if (bad.landmark_in_cluster[i].allFinite())
+        EXPECT_EQ(bad.landmark_in_cluster[i], given.landmark_in_cluster[i]) << i;
+  }
+}
+
 // An online window's frames the map already has (backend/clusterslam.h, fix_known_poses):
 // those poses come out bit for bit as they went in, the rest are still estimated — on a scene
 // whose held poses are the truth, the free frames end as close to it as a free adjustment

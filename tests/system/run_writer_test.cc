@@ -87,6 +87,7 @@ TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCam
   WindowStats b = a;
   b.range = {5, 15};
   b.failed = true;
+  b.adjustment_failed = true;
   result.windows = {a, b};
   testing::TempDir tmp("run_writer_windows");
   RunInput input;
@@ -96,10 +97,10 @@ TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCam
   WriteRunOutputs(input, result, options, tmp.path().string(), nullptr);
   const auto lines = testing::Lines(testing::ReadText(tmp.path() / "windows.csv"));
   ASSERT_EQ(lines.size(), 3u);
-  EXPECT_EQ(lines[0], "first_frame,last_frame,failed,backend_ms,integrate_ms,window_clusters,"
-                      "live_clusters,live_landmarks");
-  EXPECT_EQ(lines[1], "0,9,0,12.5,0.25,1,1,10");
-  EXPECT_EQ(lines[2], "5,14,1,12.5,0.25,1,1,10");
+  EXPECT_EQ(lines[0], "first_frame,last_frame,failed,adjustment_failed,backend_ms,integrate_ms,"
+                      "window_clusters,live_clusters,live_landmarks");
+  EXPECT_EQ(lines[1], "0,9,0,0,12.5,0.25,1,1,10");
+  EXPECT_EQ(lines[2], "5,14,1,1,12.5,0.25,1,1,10");
   EXPECT_EQ(testing::Lines(testing::ReadText(tmp.path() / "config.yaml"))[0],
             "# configuration: built-in configs/kitti_raw.yaml");
 }
