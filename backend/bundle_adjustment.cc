@@ -437,17 +437,23 @@ class Solve {
     }
     summary->iterations += static_cast<int>(s.iterations.size());
     ++summary->num_solves;
-    if (s.termination_type == ceres::FAILURE) {
-      summary->usable = false;
-      summary->why = "solve " + label_ + " failed: " + s.message;
-    } else if (!std::isfinite(s.final_cost) || s.final_cost > s.initial_cost) {
-      summary->usable = false;
-      summary->why = "solve " + label_ + " ended at cost " + std::to_string(s.final_cost) +
-                     " from " + std::to_string(s.initial_cost);
-    }
+    MarkUnusable(s.termination_type == ceres::FAILURE ? "failed: " + s.message : "",
+                 s.initial_cost, s.final_cost, summary);
   }
 
  private:
+  /// A solve is not usable when it `failed` (non-empty: what happened) or ended at a
+  /// non-finite cost or above where it started.
+  void MarkUnusable(const std::string& failed, double initial_cost, double final_cost,
+                    BundleAdjustmentSummary* summary) const {
+    if (failed.empty() && std::isfinite(final_cost) && final_cost <= initial_cost) return;
+    summary->usable = false;
+    summary->why = "solve " + label_ + " " +
+                   (failed.empty() ? "ended at cost " + std::to_string(final_cost) + " from " +
+                                         std::to_string(initial_cost)
+                                   : failed);
+  }
+
   /// The same minimisation on backend/stereo_lm.h; `profile`: a large solve, factored by its
   /// profile.
   void RunNative(bool profile, BundleAdjustmentSummary* summary) {
@@ -493,14 +499,8 @@ class Solve {
                  s.converged ? "CONVERGENCE" : "NO_CONVERGENCE", timer.ElapsedS());
     summary->iterations += s.iterations + 1;  // Ceres counts its iteration 0 too
     ++summary->num_solves;
-    if (s.failed) {
-      summary->usable = false;
-      summary->why = "solve " + label_ + " failed: a point is not in front of a camera";
-    } else if (!std::isfinite(s.final_cost) || s.final_cost > s.initial_cost) {
-      summary->usable = false;
-      summary->why = "solve " + label_ + " ended at cost " + std::to_string(s.final_cost) +
-                     " from " + std::to_string(s.initial_cost);
-    }
+    MarkUnusable(s.failed ? "failed: a point is not in front of a camera" : "", s.initial_cost,
+                 s.final_cost, summary);
   }
 
   int FreeBlocks(const std::vector<double*>& blocks) const {

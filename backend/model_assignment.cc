@@ -124,8 +124,10 @@ std::vector<Model> ModelsOf(const MotionEstimate& estimate) {
 // `info` = the samples' camera-frame information matrices Σ⁻¹ (precomputed per landmark).
 // Up to `max_dropped` samples whose χ² against the mean exceeds `gate` are left out, worst
 // first, the mean re-estimated each time: a track is judged on what most of it says.
+// `mean` (may be null) receives the kept samples' mean in the model's frame.
 double CostUnder(const PointTrack& track, const std::vector<Eigen::Matrix3d>& info,
-                 const Model& model, double min_coverage, int max_dropped, double gate) {
+                 const Model& model, double min_coverage, int max_dropped, double gate,
+                 Eigen::Vector3d* mean_out = nullptr) {
   const auto& samples = track.samples;
   thread_local std::vector<Eigen::Vector3d> y;
   thread_local std::vector<Eigen::Matrix3d> w;
@@ -167,6 +169,7 @@ double CostUnder(const PointTrack& track, const std::vector<Eigen::Matrix3d>& in
     mean = a.ldlt().solve(b);
   }
   const double cost = chi2 / (3.0 * used - 3.0);
+  if (mean_out) *mean_out = mean;
   return std::isfinite(cost) ? cost : -1.0;
 }
 
@@ -210,6 +213,51 @@ double RelativeMotion(const MotionEstimate& estimate, const std::vector<int>& la
   return std::isfinite(rel) ? rel : -1.0;
 }
 
+namespace {
+
+MovingTestResult TestModel(const PointTracks& tracks, const std::vector<int>& labels,
+                           const Model& world, const Model& own,
+                           const MovingTestOptions& options) {
+  std::vector<const PointTrack*> members;
+  const size_t n = std::min(labels.size(), tracks.size());
+  for (size_t l = 0; l < n; ++l)
+    if (labels[l] == own.label) members.push_back(&tracks[l]);
+  return TestMoving(members, [&world](int f) { return world.At(f); },
+                    [&own](int f) { return own.At(f); }, options);
+}
+
+// Whether moving cluster `own` has earned its existence (see the header), given how many of
+// its landmarks its motion covers and how many of those fit it; logged under `stage`.
+bool ShouldDissolve(const char* stage, int fits, int covered, const PointTracks& tracks,
+                    const std::vector<int>& labels, const MotionEstimate& estimate,
+                    const Model* world, const Model& own, const ModelAssignmentOptions& options) {
+  // A big core of fitting landmarks stands on its own (the rest of the cluster is another
+  // body's and is re-clustered); a small cluster must also be consistent.
+  bool dissolve = fits < options.min_cluster_landmarks ||
+                  (fits < options.core_cluster_landmarks &&
+                   fits < options.min_own_fit_fraction * static_cast<double>(covered));
+  double rel = -1.0;
+  if (!dissolve && options.min_relative_motion > 0) {
+    rel = RelativeMotion(estimate, labels, own.label);
+    dissolve = rel >= 0 && rel < options.min_relative_motion;
+  }
+  MovingTestResult test;
+  if (!dissolve && options.test_moving) {
+    if (world) test = TestModel(tracks, labels, *world, own, options.moving_test);
+    dissolve = !test.moving;  // no static world: nothing shows it moves
+  }
+  GetLogger("backend")->debug(
+      "{}: cluster {} {} ({} of {} landmarks fit its motion, relative motion {:.4f}; moving "
+      "test: chi2 static {:.1f} own {:.1f}, difference {:.1f} against {:.1f} for {} dof, {} "
+      "landmarks in {} frames, disparity offsets {:.2f} / {:.2f} px)",
+      stage, own.label, dissolve ? "dissolved" : "kept", fits, covered, rel, test.chi2_static,
+      test.chi2_own, test.Statistic(), test.threshold, test.dof, test.landmarks, test.frames,
+      test.offset_static_px, test.offset_own_px);
+  return dissolve;
+}
+
+}  // namespace
+
 MovingTestResult TestClusterMoving(const PointTracks& tracks, const std::vector<int>& labels,
                                    const MotionEstimate& estimate, int label,
                                    const MovingTestOptions& options) {
@@ -221,12 +269,7 @@ MovingTestResult TestClusterMoving(const PointTracks& tracks, const std::vector<
     if (m.label == label) own = &m;
   }
   if (!world || !own || label == 0) return {};
-  std::vector<const PointTrack*> members;
-  const size_t n = std::min(labels.size(), tracks.size());
-  for (size_t l = 0; l < n; ++l)
-    if (labels[l] == label) members.push_back(&tracks[l]);
-  return TestMoving(members, [world](int f) { return world->At(f); },
-                    [own](int f) { return own->At(f); }, options);
+  return TestModel(tracks, labels, *world, *own, options);
 }
 
 int DissolveUnsupportedClusters(const PointTracks& tracks, const ModelAssignmentOptions& options,
@@ -248,24 +291,8 @@ int DissolveUnsupportedClusters(const PointTracks& tracks, const ModelAssignment
       ++covered;
       fits += c <= options.fit_threshold;
     }
-    bool dissolve = fits < options.min_cluster_landmarks ||
-                    (fits < options.core_cluster_landmarks &&
-                     fits < options.min_own_fit_fraction * static_cast<double>(covered));
-    double rel = -1.0;
-    if (!dissolve && options.min_relative_motion > 0) {
-      rel = RelativeMotion(*estimate, labels, m.label);
-      dissolve = rel >= 0 && rel < options.min_relative_motion;
-    }
-    MovingTestResult test;
-    if (!dissolve && options.test_moving) {
-      test = TestClusterMoving(tracks, labels, *estimate, m.label, options.moving_test);
-      dissolve = !test.moving;
-    }
-    GetLogger("backend")->debug(
-        "final check: cluster {} {} ({} of {} landmarks fit its motion, relative motion {:.4f}; "
-        "moving test: difference {:.1f} against {:.1f} for {} dof, {} landmarks in {} frames)",
-        m.label, dissolve ? "dissolved" : "kept", fits, covered, rel, test.Statistic(),
-        test.threshold, test.dof, test.landmarks, test.frames);
+    const bool dissolve =
+        ShouldDissolve("final check", fits, covered, tracks, labels, *estimate, &world, m, options);
     if (dissolve) removed.insert(m.label);
   }
   if (removed.empty()) return 0;
@@ -274,21 +301,12 @@ int DissolveUnsupportedClusters(const PointTracks& tracks, const ModelAssignment
     labels[l] = -1;
     estimate->landmark_in_cluster[l] = Eigen::Vector3d::Constant(NAN);
     if (static_cast<int>(tracks[l].samples.size()) < kMinSamples) continue;
-    const std::vector<Eigen::Matrix3d> info = Informations(tracks[l]);
-    const double c = CostUnder(tracks[l], info, world, options.min_coverage,
-                               options.max_dropped_samples, options.sample_gate_chi2);
+    Eigen::Vector3d in_world;
+    const double c = CostUnder(tracks[l], Informations(tracks[l]), world, options.min_coverage,
+                               options.max_dropped_samples, options.sample_gate_chi2, &in_world);
     if (c < 0 || c > options.fit_threshold) continue;
-    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    for (size_t k = 0; k < tracks[l].samples.size(); ++k) {
-      const Pose* p = world.At(tracks[l].samples[k].frame);
-      if (!p) continue;
-      const Eigen::Matrix3d w = p->linear() * info[k] * p->linear().transpose();
-      a += w;
-      b += w * (*p * tracks[l].samples[k].point);
-    }
     labels[l] = 0;
-    estimate->landmark_in_cluster[l] = a.ldlt().solve(b);
+    estimate->landmark_in_cluster[l] = in_world;
   }
   std::erase_if(estimate->clusters,
                 [&](const ClusterMotion& c) { return removed.count(c.cluster) > 0; });
@@ -339,30 +357,10 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
   for (int m = 0; m < num_models; ++m) {
     const int label = models[m].label;
     if (label == 0) continue;
-    const int covered = own_covered[label], fits = own_fits[label];
-    // A big core of fitting landmarks stands on its own (the rest of the cluster is another
-    // body's and is re-clustered); a small cluster must also be consistent.
-    bool dissolve = fits < options.min_cluster_landmarks ||
-                    (fits < options.core_cluster_landmarks &&
-                     fits < options.min_own_fit_fraction * static_cast<double>(covered));
-    double rel = -1.0;
-    if (!dissolve && options.min_relative_motion > 0) {
-      rel = RelativeMotion(estimate, labels, label);
-      dissolve = rel >= 0 && rel < options.min_relative_motion;
-    }
-    MovingTestResult test;
-    if (!dissolve && options.test_moving) {
-      test = TestClusterMoving(tracks, labels, estimate, label, options.moving_test);
-      dissolve = !test.moving;
-    }
-    GetLogger("backend")->debug(
-        "model assignment: cluster {} {} ({} of {} landmarks fit its motion, relative motion "
-        "{:.4f}; moving test: "
-        "chi2 static {:.1f} own {:.1f}, difference {:.1f} against {:.1f} for {} dof, {} "
-        "landmarks in {} frames, disparity offsets {:.2f} / {:.2f} px)",
-        label, dissolve ? "dissolved" : "kept", fits, covered, rel, test.chi2_static, test.chi2_own,
-        test.Statistic(), test.threshold, test.dof, test.landmarks, test.frames,
-        test.offset_static_px, test.offset_own_px);
+    const bool dissolve = ShouldDissolve("model assignment", own_fits[label],
+                                         own_covered[label], tracks, labels, estimate,
+                                         models[0].label == 0 ? &models[0] : nullptr,
+                                         models[m], options);
     if (!dissolve) continue;
     dissolved[m] = 1;
     ++out.dissolved;

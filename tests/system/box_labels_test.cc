@@ -2,19 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/cameras.h"
+
 namespace cslam {
 namespace {
 
-StereoCamera Cam() {
-  StereoCamera c;
-  c.fx = c.fy = 700;
-  c.cx = 600;
-  c.cy = 180;
-  c.baseline = 0.5;
-  c.width = 1200;
-  c.height = 360;
-  return c;
-}
+StereoCamera Cam() { return testing::KittiSizedCamera(); }
 
 // A box 10 m ahead whose bottom face is 1 m below the camera (camera y is down; box z is up).
 ObjectBox BoxAt(int id, double z_ahead) {

@@ -4,21 +4,13 @@
 
 #include <random>
 
+#include "tests/support/cameras.h"
 #include "tests/support/random.h"
 
 namespace cslam {
 namespace {
 
-StereoCamera Camera() {
-  StereoCamera c;
-  c.fx = c.fy = 700;
-  c.cx = 600;
-  c.cy = 180;
-  c.baseline = 0.5;
-  c.width = 1200;
-  c.height = 360;
-  return c;
-}
+StereoCamera Camera() { return testing::KittiSizedCamera(); }
 
 // 200 static landmarks seen over 20 frames by a camera driving along z, observed with noise
 // drawn from `scale` × the stated covariance (anisotropic: 0.8 px across, 0.4 px along v,
