@@ -1,5 +1,5 @@
 // `cslam bench --suite synthetic --out DIR`: the paper's Table 1 protocol on generated
-// sequences (system/bench_suite.h), written to DIR/bench.json and DIR/bench.md; optional
+// sequences (system/run/bench_suite.h), written to DIR/bench.json and DIR/bench.md; optional
 // sweeps of pixel noise and chunk length with their charts.
 #include <spdlog/sinks/basic_file_sink.h>
 
@@ -15,10 +15,10 @@
 #include "core/errors.h"
 #include "core/logging.h"
 #include "core/timer.h"
-#include "system/bench_report.h"
-#include "system/bench_suite.h"
-#include "system/image_io.h"
-#include "system/line_chart.h"
+#include "system/io/image_io.h"
+#include "system/render/line_chart.h"
+#include "system/run/bench_report.h"
+#include "system/run/bench_suite.h"
 
 namespace cslam::apps {
 

@@ -17,7 +17,7 @@ struct Command {
 // One declaration per subcommand file, in the order `cslam --help` lists them.
 Command AddEvalCommand(CLI::App& app);
 
-/// `cslam synth`: generates a synthetic ground-truth sequence (system/synthetic_scene.h).
+/// `cslam synth`: generates a synthetic ground-truth sequence (system/synthetic/synthetic_scene.h).
 Command AddSynthCommand(CLI::App& app);
 Command AddRunCommand(CLI::App& app);
 /// `cslam demo`: the embedded synthetic default.

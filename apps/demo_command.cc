@@ -5,10 +5,10 @@
 #include "apps/command.h"
 #include "apps/run_support.h"
 #include "core/logging.h"
-#include "system/run_input.h"
-#include "system/synthetic_image_io.h"
-#include "system/synthetic_io.h"
-#include "system/synthetic_scene.h"
+#include "system/pipeline/run_input.h"
+#include "system/synthetic/synthetic_image_io.h"
+#include "system/synthetic/synthetic_io.h"
+#include "system/synthetic/synthetic_scene.h"
 
 namespace cslam::apps {
 

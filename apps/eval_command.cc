@@ -6,10 +6,10 @@
 
 #include "apps/command.h"
 #include "core/errors.h"
-#include "system/metrics_json.h"
-#include "system/trajectory_evaluation.h"
-#include "system/trajectory_io.h"
-#include "system/trajectory_metrics.h"
+#include "system/eval/metrics_json.h"
+#include "system/eval/trajectory_evaluation.h"
+#include "system/eval/trajectory_io.h"
+#include "system/eval/trajectory_metrics.h"
 
 namespace cslam::apps {
 

@@ -11,7 +11,7 @@
 
 #include "apps/command.h"
 #include "core/errors.h"
-#include "system/version.h"
+#include "system/run/version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{

@@ -1,5 +1,5 @@
 // `cslam render OUT`: draws the pictures of a finished run again from its output files
-// (system/run_outputs_reader.h), with the same functions the run itself used.
+// (system/run/run_outputs_reader.h), with the same functions the run itself used.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -7,10 +7,10 @@
 
 #include "apps/command.h"
 #include "core/logging.h"
-#include "system/image_io.h"
-#include "system/resource_log.h"
-#include "system/run_outputs_reader.h"
-#include "system/run_trajectory_plot.h"
+#include "system/io/image_io.h"
+#include "system/run/run_outputs_reader.h"
+#include "system/run/run_trajectory_plot.h"
+#include "system/runtime/resource_log.h"
 
 namespace cslam::apps {
 

@@ -11,10 +11,10 @@
 #include "apps/run_support.h"
 #include "core/errors.h"
 #include "core/logging.h"
-#include "system/pipeline.h"
-#include "system/run_input.h"
-#include "system/run_metrics.h"
-#include "system/run_writer.h"
+#include "system/pipeline/pipeline.h"
+#include "system/pipeline/run_input.h"
+#include "system/run/run_metrics.h"
+#include "system/run/run_writer.h"
 
 namespace cslam::apps {
 

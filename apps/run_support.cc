@@ -12,8 +12,8 @@
 #include "core/errors.h"
 #include "core/logging.h"
 #include "core/options_reader.h"
-#include "system/run_metrics.h"
-#include "system/run_writer.h"
+#include "system/run/run_metrics.h"
+#include "system/run/run_writer.h"
 
 namespace cslam::apps {
 

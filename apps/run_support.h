@@ -6,9 +6,9 @@
 #include <atomic>
 #include <string>
 
-#include "system/pipeline.h"
-#include "system/pipeline_options.h"
-#include "system/run_input.h"
+#include "system/pipeline/pipeline.h"
+#include "system/pipeline/pipeline_options.h"
+#include "system/pipeline/run_input.h"
 
 namespace cslam::apps {
 

@@ -5,9 +5,9 @@
 
 #include "apps/command.h"
 #include "core/timer.h"
-#include "system/synthetic_image_io.h"
-#include "system/synthetic_io.h"
-#include "system/synthetic_scene.h"
+#include "system/synthetic/synthetic_image_io.h"
+#include "system/synthetic/synthetic_io.h"
+#include "system/synthetic/synthetic_scene.h"
 
 namespace cslam::apps {
 

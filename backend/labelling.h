@@ -6,7 +6,7 @@
 namespace cslam {
 
 /// Variation of information between two labellings of the same landmarks (for the outer
-/// loop's convergence test; system/clustering_metrics.h has the evaluation metric):
+/// loop's convergence test; system/eval/clustering_metrics.h has the evaluation metric):
 /// β_VI = H(A) + H(B) − 2 I(A;B), natural log, over the indices where at least one labelling
 /// is >= 0 (-1 counts as one more class). 0 iff the partitions are equal up to relabelling.
 double LabellingVariation(const std::vector<int>& a, const std::vector<int>& b);

@@ -4,7 +4,7 @@
 // Why an interface in core: the decoupled bundle adjustment's solves (each moving cluster, and
 // the static world) share no unknowns, so they can run concurrently, but threads belong to
 // system/ (docs/architecture.md). The backend takes a TaskRunner in its options; system/
-// supplies one backed by threads (system/worker_pool.h), and without one the tasks run one
+// supplies one backed by threads (system/runtime/worker_pool.h), and without one the tasks run one
 // after another on the caller's thread.
 #include <functional>
 

@@ -2,7 +2,7 @@
 // calib_*_to_*.txt files) over the same bytes.
 #include "core/errors.h"
 #include "fuzz/fuzz_support.h"
-#include "system/kitti_calibration.h"
+#include "system/datasets/kitti_calibration.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = cslam::fuzz::WriteInput(data, size, "calib.txt");

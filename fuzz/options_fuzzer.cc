@@ -2,7 +2,7 @@
 // (OptionsReader → PipelineOptions::Load → Check), then the effective-configuration dump.
 #include "core/errors.h"
 #include "fuzz/fuzz_support.h"
-#include "system/pipeline_options.h"
+#include "system/pipeline/pipeline_options.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = cslam::fuzz::WriteInput(data, size, "config.yaml");

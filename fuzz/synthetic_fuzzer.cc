@@ -6,8 +6,8 @@
 
 #include "core/errors.h"
 #include "fuzz/fuzz_support.h"
-#include "system/synthetic_io.h"
-#include "system/synthetic_scene.h"
+#include "system/synthetic/synthetic_io.h"
+#include "system/synthetic/synthetic_scene.h"
 
 namespace {
 

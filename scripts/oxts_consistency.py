@@ -2,7 +2,7 @@
 """How far the OXTS ground truth of a KITTI raw drive agrees with itself.
 
 Per segment of N frames, the path length of the OXTS positions (Mercator projection, as
-system/oxts.cc and the KITTI devkit do) against the path integrated from the OXTS's own
+system/datasets/oxts.cc and the KITTI devkit do) against the path integrated from the OXTS's own
 horizontal velocity (vf, vl) over the timestamps. With exact positions the ratio is 1; the
 spread of the ratio is the ground truth's own scale noise over such segments, which any
 estimated trajectory compared with those positions inherits. Also prints the receiver's

@@ -10,8 +10,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
-#include "system/synthetic_io.h"
-#include "system/synthetic_scene.h"
+#include "system/synthetic/synthetic_io.h"
+#include "system/synthetic/synthetic_scene.h"
 #include "tests/apps/subprocess.h"
 #include "tests/system/kitti_fixtures.h"
 

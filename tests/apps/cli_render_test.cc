@@ -8,9 +8,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
-#include "system/cluster_colors.h"
-#include "system/run_outputs_reader.h"
-#include "system/run_trajectory_plot.h"
+#include "system/render/cluster_colors.h"
+#include "system/run/run_outputs_reader.h"
+#include "system/run/run_trajectory_plot.h"
 #include "tests/apps/subprocess.h"
 #include "tests/system/image_test_util.h"
 #include "tests/system/kitti_fixtures.h"
@@ -44,7 +44,7 @@ class CliRender : public ::testing::Test {
     return testing::RunProcess(args, tmp_.path() / "render_logs");
   }
   /// Ids of the clusters in objects/index.csv with at least two poses (drawn as lines).
-  /// Clusters the plot draws as lines (system/run_trajectory_plot.h decides which: the small
+  /// Clusters the plot draws as lines (system/run/run_trajectory_plot.h decides which: the small
   /// ones are only counted in the legend).
   std::vector<int> ClustersWithLines() const {
     std::vector<int> ids;

@@ -1,7 +1,7 @@
 #pragma once
 // A small self-contained multi-body stereo scene for backend tests: rigid point sets with known
 // trajectories projected through a StereoCamera with known pixel noise. (The library generator
-// system/synthetic_scene.h is richer; this one only needs what the backend tests pin.)
+// system/synthetic/synthetic_scene.h is richer; this one only needs what the backend tests pin.)
 #include <Eigen/Core>
 #include <cmath>
 #include <limits>

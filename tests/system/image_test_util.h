@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "system/image_io.h"
+#include "system/io/image_io.h"
 
 namespace cslam::testing {
 

@@ -1,0 +1,129 @@
+#pragma once
+// metrics.json of a run (docs/formats.md): one struct per JSON object, every number optional —
+// an unknown or unavailable figure is written as JSON null.
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace cslam {
+
+/// The contents of metrics.json; field names are the JSON keys.
+struct RunMetrics {
+  /// Camera trajectory errors (metres, radians). RPE: RMSE; per-frame delta = 1 frame,
+  /// all-pairs over ≤ 10 000 random ordered pairs (seed 42).
+  struct Camera {
+    std::optional<double> ate_m, ate_sim3_m, sim3_scale;
+    std::optional<double> rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    std::optional<double> path_length_m, gt_path_length_m;
+  };
+  /// One ground-truth object and the cluster matched to it (if any).
+  struct PerObject {
+    int gt_object = -1;
+    std::optional<int> cluster;
+    std::optional<int> landmarks;
+    std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    bool found = false;
+  };
+  /// Object trajectory errors averaged over matched objects, each aligned on its own.
+  struct Objects {
+    std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    std::optional<int> matched, gt;
+    /// Objects with at least `eligible_min_landmarks` clusterable landmarks (PerObject::
+    /// landmarks), and how many of those were found: the "every object with ≥ 30 tracked
+    /// landmarks found" figure, which objects a few points wide cannot spoil.
+    std::optional<int> eligible, found_eligible, eligible_min_landmarks;
+    /// Moving clusters reported as objects (system/map/object_report.h), with or without labels.
+    std::optional<int> reported;
+    /// Where landmarks are labelled: reported objects most of whose labelled landmarks lie on
+    /// one moving object; precision = that / reported; recall = matched / gt.
+    std::optional<int> reported_on_movers;
+    std::optional<double> precision, recall;
+    /// Static landmarks (on no moving object) that sit in a reported object / static landmarks.
+    std::optional<double> static_in_objects_fraction;
+    std::vector<PerObject> per_object;
+  };
+  /// Clustering against ground-truth labels; vi in nats (natural logarithm).
+  struct Clustering {
+    std::optional<double> accuracy, vi;
+    std::optional<int> clusters, gt_objects;
+  };
+  /// Landmark position RMSE over all (landmark, frame) pairs, metres.
+  struct Landmarks {
+    std::optional<double> rmse_m;
+    std::optional<long long> count;
+  };
+  /// The static landmarks' whitened reprojection residuals under the final camera poses
+  /// (system/eval/noise_check.h): chi2_per_dof ≈ 1 when the keypoint covariances are honest.
+  struct Noise {
+    std::optional<double> static_chi2_per_dof, static_cut_fraction;
+    std::optional<int> static_landmarks;
+    std::optional<long long> static_observations;
+  };
+  /// Wall-clock figures.
+  struct Timing {
+    std::optional<double> total_s, frontend_ms_per_frame, backend_ms_per_window, hz;
+  };
+  /// How the run went (docs/reliability.md): what was cut short, discarded or chained blindly.
+  struct Status {
+    bool interrupted = false;            ///< stopped by SIGINT/SIGTERM before the end
+    int windows = 0;                     ///< backend windows run
+    std::vector<int> failed_windows;     ///< first frame of each discarded window
+    /// first frame of each window integrated without its bundle adjustment (not usable)
+    std::vector<int> adjustment_failed_windows;
+    std::vector<int> tracking_lost;      ///< frames where the frontend lost every track
+    std::vector<int> gaps;               ///< frames where the trajectory was chained without overlap
+  };
+
+  /// The run's self-calibration (calibration.estimate_disparity_offset); empty when off.
+  struct Calibration {
+    std::optional<double> disparity_offset_px;        ///< δ estimated
+    std::optional<double> disparity_offset_sigma_px;  ///< its standard deviation
+    std::optional<double> disparity_offset_applied_px;  ///< δ applied (0: not significant)
+    std::optional<int> disparity_offset_frames;       ///< frames it was estimated over
+    /// Largest yaw rate of the camera in those frames, rad/s (+ = left; PeakYawRate).
+    std::optional<double> disparity_offset_yaw_rate;
+    std::optional<std::string> disparity_offset_decision;  ///< why δ was or was not applied
+  };
+
+  /// How far the ground truth itself can be trusted, where the dataset says (KITTI raw): the
+  /// device's median stated position accuracy, and its second estimate of the camera path
+  /// (GroundTruthCrossCheck) against the ground truth and against the estimate. An ATE against
+  /// the ground truth well below cross_check_ate_sim3_m measures the reference, not the method.
+  struct GroundTruthCheck {
+    std::optional<std::string> cross_check;  ///< what the second estimate is
+    std::optional<double> position_accuracy_median_m;
+    std::optional<double> cross_check_path_length_m;
+    std::optional<double> cross_check_ate_sim3_m;   ///< second estimate vs the ground truth
+    std::optional<double> camera_ate_sim3_vs_cross_check_m;  ///< the run's camera vs the second estimate
+    std::optional<double> camera_sim3_scale_vs_cross_check;
+  };
+
+  std::string sequence;
+  std::optional<int> frames;
+  std::string method;
+  Camera camera;
+  Objects objects;
+  Clustering clustering;
+  Landmarks landmarks;
+  Noise noise;
+  std::optional<double> log_chi2;
+  Timing timing;
+  Status run;
+  Calibration calibration;
+  GroundTruthCheck ground_truth;
+};
+
+/// The JSON document: the keys above, plus "conventions" naming each metric's statistic,
+/// delta and logarithm base (implementations differ; readers should not have to guess).
+nlohmann::json ToJson(const RunMetrics& metrics);
+
+/// Inverse of ToJson (missing keys and nulls become empty optionals). Throws InputError(source)
+/// when a present value has the wrong type.
+RunMetrics RunMetricsFromJson(const nlohmann::json& json,
+                              const std::string& source = "metrics.json");
+
+/// Writes ToJson(metrics), indented, atomically to `path`.
+void WriteMetricsJson(const RunMetrics& metrics, const std::string& path);
+
+}  // namespace cslam

@@ -1,0 +1,469 @@
+#include "system/map/map_state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "core/errors.h"
+#include "core/logging.h"
+#include "system/map/motion_agreement.h"
+
+namespace cslam {
+
+void MapStateOptions::Check() const {
+  CheckOption(association_overlap > 0 && association_overlap <= 1, "map.association_overlap",
+              "must be in (0, 1]", association_overlap);
+  CheckOption(min_shared_for_alignment >= 3, "map.min_shared_for_alignment",
+              "must be at least 3 (a rigid alignment needs 3 points)", min_shared_for_alignment);
+  CheckOption(known_overlap > 0 && known_overlap <= 1, "map.known_overlap", "must be in (0, 1]",
+              known_overlap);
+  CheckOption(containment_overlap > 0 && containment_overlap <= 1, "map.containment_overlap",
+              "must be in (0, 1]", containment_overlap);
+  CheckOption(motion_min_frames >= 2, "map.motion_min_frames",
+              "must be at least 2 (one frame cannot show a motion)", motion_min_frames);
+  CheckOption(motion_tolerance > 0, "map.motion_tolerance",
+              "must be positive (RMS misplacement / mean range to the camera)", motion_tolerance);
+  CheckOption(min_new_cluster_landmarks >= 1, "map.min_new_cluster_landmarks",
+              "must be at least 1", min_new_cluster_landmarks);
+  CheckOption(report_min_landmarks >= 1, "map.report_min_landmarks", "must be at least 1",
+              report_min_landmarks);
+  CheckOption(report_min_frames >= 1, "map.report_min_frames", "must be at least 1",
+              report_min_frames);
+  CheckOption(retire_after_frames >= 0, "map.retire_after_frames", "must be >= 0 (0: never)",
+              retire_after_frames);
+  CheckOption(refine_camera_from >= 0, "map.refine_camera_from", "must be >= 0 (0: off)",
+              refine_camera_from);
+}
+
+void MapStateOptions::Load(OptionsReader& r) {
+  r.Read("association_overlap", &association_overlap);
+  r.Read("min_shared_for_alignment", &min_shared_for_alignment);
+  r.Read("known_overlap", &known_overlap);
+  r.Read("containment_overlap", &containment_overlap);
+  r.Read("motion_association", &motion_association);
+  r.Read("motion_min_frames", &motion_min_frames);
+  r.Read("motion_tolerance", &motion_tolerance);
+  r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
+  r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
+  r.Read("stitch_by_motion", &stitch_by_motion);
+  r.Read("refine_camera_from", &refine_camera_from);
+  r.Read("report_min_landmarks", &report_min_landmarks);
+  r.Read("report_min_frames", &report_min_frames);
+  r.Read("retire_after_frames", &retire_after_frames);
+  r.Finish();
+}
+
+MapState::MapState(MapStateOptions options) : options_(options) { options_.Check(); }
+
+const MapState::LandmarkState* MapState::Find(int landmark) const {
+  if (const auto it = landmarks_.find(landmark); it != landmarks_.end()) return &it->second;
+  if (const auto it = retired_.find(landmark); it != retired_.end()) return &it->second;
+  return nullptr;
+}
+
+int MapState::ClusterOf(int landmark) const {
+  const LandmarkState* state = Find(landmark);
+  return state ? state->cluster : -1;
+}
+
+std::optional<Eigen::Vector3d> MapState::PositionInCluster(int landmark) const {
+  const LandmarkState* state = Find(landmark);
+  if (!state) return std::nullopt;
+  return state->p_in_cluster;
+}
+
+std::optional<Eigen::Vector3d> MapState::WorldPosition(int landmark, int frame) const {
+  const LandmarkState* state = Find(landmark);
+  if (!state) return std::nullopt;
+  if (state->cluster <= 0) return state->p_in_cluster;
+  const auto c = clusters_.find(state->cluster);
+  if (c == clusters_.end()) return std::nullopt;
+  const auto pose = c->second.world_from_cluster.find(frame);
+  if (pose == c->second.world_from_cluster.end()) return std::nullopt;
+  return pose->second * state->p_in_cluster;
+}
+
+std::vector<int> MapState::Landmarks() const {
+  std::vector<int> ids;
+  ids.reserve(landmarks_.size() + retired_.size());
+  for (const auto& [id, state] : landmarks_) ids.push_back(id);
+  for (const auto& [id, state] : retired_) ids.push_back(id);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+int MapState::NumLiveClusters() const {
+  std::set<int> live;
+  for (const auto& [id, state] : landmarks_)
+    if (state.cluster >= 1) live.insert(state.cluster);
+  return static_cast<int>(live.size());
+}
+
+void MapState::RetireBefore(int frame) {
+  for (auto it = landmarks_.begin(); it != landmarks_.end();) {
+    if (it->second.last_frame >= frame) {
+      ++it;
+      continue;
+    }
+    if (it->second.cluster >= 1) retired_by_cluster_[it->second.cluster].push_back(it->first);
+    retired_.emplace(it->first, it->second);
+    it = landmarks_.erase(it);
+  }
+}
+
+void MapState::ReleaseCluster(int id) {
+  const auto c = clusters_.find(id);
+  if (id < 1 || c == clusters_.end()) return;
+  const Pose last = c->second.world_from_cluster.empty() ? Pose::Identity()
+                                                         : c->second.world_from_cluster.rbegin()->second;
+  for (auto* states : {&landmarks_, &retired_})
+    for (auto& [l, state] : *states) {
+      if (state.cluster != id) continue;
+      state.cluster = -1;
+      state.p_in_cluster = last * state.p_in_cluster;
+    }
+  retired_by_cluster_.erase(id);
+  clusters_.erase(c);
+}
+
+void MapState::SetCameraPose(int frame, const Pose& world_from_cam) {
+  if (frame >= num_frames()) world_from_cam_.resize(frame + 1);
+  world_from_cam_[frame] = world_from_cam;
+}
+
+WindowIntegration MapState::Integrate(const MotionEstimate& window) {
+  WindowIntegration info;
+  info.range = window.range;
+  const int begin = window.range.begin;
+  window_last_frame_ = window.range.end - 1;
+  if (options_.retire_after_frames > 0) RetireBefore(begin - options_.retire_after_frames);
+  CSLAM_CHECK(static_cast<int>(window.world_from_cam.size()) == window.range.size(),
+              "window estimate needs one camera pose per frame");
+
+  // Chain the window to the newest map pose it shares (with refine_camera_from: the newest up
+  // to the window's frame k − 1, later ones are re-estimated here): the window's own first
+  // frames were estimated with less context than the map's older windows had.
+  Pose map_from_window = Pose::Identity();
+  const int newest_anchor =
+      options_.refine_camera_from > 0
+          ? std::min(window.range.end, begin + options_.refine_camera_from)
+          : window.range.end;
+  for (int f = std::min(newest_anchor, num_frames()) - 1; f >= begin; --f) {
+    if (world_from_cam_[f]) {
+      info.anchor_frame = f;
+      map_from_window = *world_from_cam_[f] * window.world_from_cam[f - begin].inverse();
+      break;
+    }
+  }
+  if (info.anchor_frame < 0 && num_frames() > 0) {
+    // No shared frame: continue from the last known pose as if the window started there.
+    for (int f = num_frames() - 1; f >= 0; --f) {
+      if (world_from_cam_[f]) {
+        map_from_window = *world_from_cam_[f] * window.world_from_cam[0].inverse();
+        break;
+      }
+    }
+    info.gap = true;
+    gaps_.push_back(begin);
+    GetLogger("system")->warn("window {}..{} shares no frame with the map: trajectory gap", begin,
+                              window.range.end - 1);
+  }
+  for (int f = begin; f < window.range.end; ++f) {
+    const bool refine = options_.refine_camera_from > 0 && f > info.anchor_frame &&
+                        info.anchor_frame >= 0;
+    if (f >= num_frames() || !world_from_cam_[f] || refine)
+      SetCameraPose(f, map_from_window * window.world_from_cam[f - begin]);
+  }
+
+  // Group the window's landmarks by label.
+  std::map<int, std::vector<int>> members;
+  for (int l = 0; l < static_cast<int>(window.landmark_cluster.size()); ++l)
+    if (window.landmark_cluster[l] >= 0 && window.landmark_in_cluster[l].allFinite())
+      members[window.landmark_cluster[l]].push_back(l);
+
+  if (auto it = members.find(0); it != members.end())
+    for (int l : it->second) Assign(l, 0, map_from_window * window.landmark_in_cluster[l]);
+
+  // Candidate associations, strongest overlap first, one window cluster per map cluster.
+  struct Candidate {
+    int window_label, map_id, shared;
+    double ratio;        // shared / the window cluster's landmarks
+    double known_ratio;  // shared / those of them the map already knows
+    double contained;    // shared / the map cluster's landmarks labelled in this window
+  };
+  std::map<int, int> in_window;  // map cluster → its landmarks the window labelled
+  for (const auto& [label, ids] : members)
+    for (int l : ids)
+      if (const int c = ClusterOf(l); c >= 1) ++in_window[c];
+  std::vector<Candidate> candidates;
+  for (const auto& [label, ids] : members) {
+    if (label == 0) continue;
+    std::map<int, int> shared;
+    int known = 0;
+    for (int l : ids) {
+      const int c = ClusterOf(l);
+      if (c >= 0) ++shared[c], ++known;
+    }
+    for (const auto& [map_id, count] : shared)
+      candidates.push_back({label, map_id, count, double(count) / double(ids.size()),
+                            double(count) / double(known),
+                            map_id >= 1 ? double(count) / double(in_window[map_id]) : 0.0});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.ratio != b.ratio ? a.ratio > b.ratio : a.window_label < b.window_label;
+  });
+  auto log = GetLogger("system");
+  if (log->should_log(spdlog::level::debug))
+    for (const auto& c : candidates)
+      log->debug("map: window {}..{} cluster {} ({} landmarks) vs map cluster {}: {} shared, "
+                 "overlap {:.2f}, known {:.2f}, contained {:.2f}",
+                 begin, window.range.end - 1, c.window_label, members[c.window_label].size(),
+                 c.map_id, c.shared, c.ratio, c.known_ratio, c.contained);
+  std::map<int, int> window_to_map;
+  std::map<int, bool> map_taken;
+  for (const auto& c : candidates) {
+    if (c.map_id == 0) continue;  // the static world continues through the motion check only
+    if (c.ratio < options_.association_overlap) break;
+    if (window_to_map.count(c.window_label) || map_taken[c.map_id]) continue;
+    window_to_map[c.window_label] = c.map_id;
+    map_taken[c.map_id] = true;
+  }
+
+  // Containment test (see MapStateOptions): the object's part still in view moved wholesale
+  // into this window cluster, which the newly tracked landmarks only diluted.
+  std::vector<Candidate> by_contained = candidates;
+  std::stable_sort(by_contained.begin(), by_contained.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.contained > b.contained; });
+  std::map<int, bool> contained;
+  for (const auto& c : by_contained) {
+    if (c.contained < options_.containment_overlap) break;
+    if (c.known_ratio < options_.known_overlap || c.shared < options_.min_shared_for_alignment ||
+        window_to_map.count(c.window_label) || map_taken[c.map_id])
+      continue;
+    window_to_map[c.window_label] = c.map_id;
+    map_taken[c.map_id] = true;
+    contained[c.window_label] = true;
+  }
+
+  // The window's cluster trajectories in map world coordinates.
+  auto window_trajectory = [&](const ClusterMotion& motion) {
+    std::map<int, Pose> t;
+    for (size_t k = 0; k < motion.frames.size(); ++k)
+      t.emplace(motion.frames[k], map_from_window * motion.world_from_cluster[k]);
+    return t;
+  };
+  // Motion-checked association below association_overlap (see MapStateOptions). The static
+  // world (0) is a candidate too: a window cluster made of map-static landmarks that holds
+  // still in the map was the static world all along.
+  std::map<int, Pose> by_motion;  // window label → mapcluster_from_wincluster
+  std::map<int, bool> to_static;
+  std::vector<Candidate> by_known = candidates;
+  std::stable_sort(by_known.begin(), by_known.end(), [](const Candidate& a, const Candidate& b) {
+    return a.known_ratio > b.known_ratio;
+  });
+  for (const auto& c : by_known) {
+    if (!options_.motion_association || c.known_ratio < options_.known_overlap) break;
+    if (window_to_map.count(c.window_label) || to_static.count(c.window_label) ||
+        (c.map_id >= 1 && map_taken[c.map_id]))
+      continue;
+    const ClusterMotion* motion = window.FindCluster(c.window_label);
+    if (!motion || motion->frames.empty()) continue;
+    const std::map<int, Pose> win = window_trajectory(*motion);
+    std::vector<Eigen::Vector3d> points;
+    for (int l : members[c.window_label]) points.push_back(window.landmark_in_cluster[l]);
+    const MotionAgreement agreement =
+        CompareMotions(c.map_id == 0 ? StaticTrajectory(win) : clusters_[c.map_id].world_from_cluster,
+                       win, points, world_from_cam_);
+    log->debug("map: window cluster {} vs map cluster {}: motion over {} frames, RMS {:.3f} m, "
+               "relative {:.4f}", c.window_label, c.map_id, agreement.frames, agreement.rms_m,
+               agreement.relative_rms());
+    if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
+      continue;
+    if (c.map_id == 0) {
+      to_static[c.window_label] = true;
+      info.cluster_map.emplace_back(c.window_label, 0);
+      for (int l : members[c.window_label]) Assign(l, 0, agreement.a_from_b * window.landmark_in_cluster[l]);
+      ++info.by_motion;
+      continue;
+    }
+    window_to_map[c.window_label] = c.map_id;
+    map_taken[c.map_id] = true;
+    by_motion[c.window_label] = agreement.a_from_b;
+  }
+
+  for (const auto& [label, ids] : members) {
+    if (label == 0 || to_static.count(label)) continue;
+    const ClusterMotion* motion = window.FindCluster(label);
+    if (!motion || motion->frames.empty()) continue;
+    // mapcluster_from_wincluster maps the window's cluster frame into the map's.
+    Pose mapcluster_from_wincluster = Pose::Identity();
+    int map_id = -1;
+    if (auto it = window_to_map.find(label); it != window_to_map.end()) {
+      bool aligned = false;
+      if (auto m = by_motion.find(label); m != by_motion.end()) {
+        // The shared landmarks may be the mislabelled few: trust the motion's offset.
+        mapcluster_from_wincluster = m->second;
+        aligned = true;
+        ++info.by_motion;
+      } else {
+        const MapCluster& mc = clusters_[it->second];
+        std::optional<MotionAgreement> stitch;
+        if (options_.stitch_by_motion) {
+          std::vector<Eigen::Vector3d> points;
+          for (int l : ids) points.push_back(window.landmark_in_cluster[l]);
+          stitch = CompareMotions(mc.world_from_cluster, window_trajectory(*motion), points,
+                                  world_from_cam_);
+          if (stitch->frames < options_.motion_min_frames) stitch.reset();
+        }
+        std::vector<Eigen::Vector3d> src, dst;  // shared landmarks, only when not stitched
+        if (!stitch)
+          for (int l : ids) {
+            if (ClusterOf(l) != it->second) continue;
+            src.push_back(window.landmark_in_cluster[l]);
+            dst.push_back(landmarks_[l].p_in_cluster);
+          }
+        if (stitch) {
+          mapcluster_from_wincluster = stitch->a_from_b;
+          aligned = true;
+        } else if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment) {
+          mapcluster_from_wincluster = AlignUmeyama(src, dst, false).rigid;
+          aligned = true;
+        } else {
+          for (size_t k = motion->frames.size(); k-- > 0;) {
+            const auto pose = mc.world_from_cluster.find(motion->frames[k]);
+            if (pose == mc.world_from_cluster.end()) continue;
+            mapcluster_from_wincluster =
+                pose->second.inverse() * map_from_window * motion->world_from_cluster[k];
+            aligned = true;
+            break;
+          }
+        }
+      }
+      if (aligned) {
+        map_id = it->second;
+        ++info.associated;
+        if (contained.count(label)) ++info.by_containment;
+      }
+    }
+    if (map_id < 0 && static_cast<int>(ids.size()) < options_.min_new_cluster_landmarks) {
+      ++info.dropped;
+      continue;
+    }
+    if (map_id < 0) {
+      map_id = next_cluster_id_++;
+      clusters_[map_id].id = map_id;
+      mapcluster_from_wincluster = Pose::Identity();
+      ++info.created;
+    }
+    info.cluster_map.emplace_back(label, map_id);
+    MapCluster& mc = clusters_[map_id];
+    const Pose wincluster_from_mapcluster = mapcluster_from_wincluster.inverse();
+    for (size_t k = 0; k < motion->frames.size(); ++k) {
+      // Keep poses already in the map so the published trajectory never changes under a
+      // reader's feet; the window only extends it.
+      mc.world_from_cluster.try_emplace(
+          motion->frames[k], map_from_window * motion->world_from_cluster[k] * wincluster_from_mapcluster);
+    }
+    for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
+  }
+  if (options_.merge_agreeing_clusters) MergeAgreeingClusters(&info);
+  return info;
+}
+
+void MapState::Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster) {
+  if (const auto r = retired_.find(landmark); r != retired_.end()) {  // seen again: live again
+    if (r->second.cluster >= 1) std::erase(retired_by_cluster_[r->second.cluster], landmark);
+    landmarks_.emplace(landmark, r->second);
+    retired_.erase(r);
+  }
+  auto& state = landmarks_.try_emplace(landmark).first->second;
+  state.last_frame = window_last_frame_;
+  if (state.cluster >= 1 && state.cluster != cluster) {
+    auto it = clusters_.find(state.cluster);
+    if (it != clusters_.end()) --it->second.num_landmarks;
+  }
+  if (cluster >= 1 && state.cluster != cluster) ++clusters_[cluster].num_landmarks;
+  state.cluster = cluster;
+  state.p_in_cluster = p_in_cluster;
+}
+
+std::map<int, std::vector<int>> MapState::MembersByCluster() const {
+  std::map<int, std::vector<int>> members;
+  for (const auto& [l, state] : landmarks_)
+    if (state.cluster >= 0) members[state.cluster].push_back(l);
+  for (auto& [c, ids] : members) std::sort(ids.begin(), ids.end());
+  return members;
+}
+
+void MapState::MergeInto(int older, int younger, const Pose& older_from_younger) {
+  const auto members = MembersByCluster();
+  if (const auto it = members.find(younger); it != members.end())
+    for (int l : it->second) {
+      const int last = landmarks_[l].last_frame;
+      Assign(l, older, older_from_younger * landmarks_[l].p_in_cluster);
+      landmarks_[l].last_frame = last;  // a merge is no sighting
+    }
+  if (const auto it = retired_by_cluster_.find(younger); it != retired_by_cluster_.end()) {
+    // Retired landmarks follow their cluster (counted as members by the Assign above: none).
+    for (int l : it->second) {
+      LandmarkState& state = retired_.at(l);
+      state.cluster = older;
+      state.p_in_cluster = older_from_younger * state.p_in_cluster;
+      if (older >= 1) ++clusters_[older].num_landmarks;
+    }
+    if (older >= 1) {
+      auto& target = retired_by_cluster_[older];
+      target.insert(target.end(), it->second.begin(), it->second.end());
+    }
+    retired_by_cluster_.erase(it);
+  }
+  if (older >= 1) {
+    MapCluster& o = clusters_[older];
+    const Pose younger_from_older = older_from_younger.inverse();
+    for (const auto& [f, pose] : clusters_[younger].world_from_cluster)
+      o.world_from_cluster.try_emplace(f, pose * younger_from_older);
+  }
+  clusters_.erase(younger);
+}
+
+void MapState::MergeAgreeingClusters(WindowIntegration* info) {
+  // Oldest first, so a chain of fragments folds into the oldest id; repeat until nothing
+  // merges, since a merge extends the older trajectory over frames it may now share.
+  for (bool merged = true; merged;) {
+    merged = false;
+    const auto members = MembersByCluster();
+    for (const auto& [younger, ids] : members) {
+      if (younger == 0) continue;
+      // Fewer than 3 points do not fix a rigid body's pose: such a cluster's trajectory can
+      // agree with an object's over a few frames by chance, and the merge would then extend
+      // the object with its poses (KITTI raw 0005: a 2-landmark cluster carried the van 10 m
+      // astray for 25 frames; docs/benchmarks.md, "Object pose noise and the motion prior").
+      if (ids.size() < 3) continue;
+      const auto y = clusters_.find(younger);
+      if (y == clusters_.end() || y->second.world_from_cluster.empty()) continue;
+      std::vector<Eigen::Vector3d> points;
+      for (int l : ids) points.push_back(landmarks_.at(l).p_in_cluster);
+      for (const auto& [older, older_ids] : members) {
+        if (older >= younger) break;
+        const auto o = clusters_.find(older);
+        if (older >= 1 && o == clusters_.end()) continue;
+        const MotionAgreement agreement =
+            CompareMotions(older == 0 ? StaticTrajectory(y->second.world_from_cluster)
+                                      : o->second.world_from_cluster,
+                           y->second.world_from_cluster, points, world_from_cam_,
+                           options_.motion_min_frames);
+        if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
+          continue;
+        GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m)",
+                                   younger, older, agreement.frames, agreement.rms_m);
+        MergeInto(older, younger, agreement.a_from_b);
+        info->merged.emplace_back(older, younger);
+        merged = true;
+        break;
+      }
+      if (merged) break;
+    }
+  }
+}
+
+}  // namespace cslam

@@ -1,0 +1,22 @@
+#pragma once
+// Which of the map's moving clusters are reported as objects (objects/, clusters.csv, the
+// renders, metrics.json). The backend already dissolved, window by window, every cluster
+// whose tracks the static world's motion explains (backend/moving_test.h); what reaches the
+// map may still be a fragment of a few landmarks or a few frames, too little to tell a body
+// from a coincidence. Those are not reported, and their landmarks are outliers (-1).
+#include <set>
+
+#include "system/map/map_state.h"
+
+namespace cslam {
+
+/// Ids of the moving clusters of `map` with at least options.report_min_landmarks landmarks
+/// and poses at at least options.report_min_frames frames.
+std::set<int> ReportedClusters(const MapState& map, const MapStateOptions& options);
+
+/// Releases every moving cluster of `map` that is not reported (MapState::ReleaseCluster);
+/// returns how many.
+int KeepReportedObjects(MapState* map, const MapStateOptions& options);
+
+}  // namespace cslam
+

@@ -1,0 +1,695 @@
+#include "system/pipeline/pipeline.h"
+
+#include <malloc.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <exception>
+#include <thread>
+
+#include "backend/clusterslam.h"
+#include "backend/covariance_floor.h"
+#include "backend/full_ba.h"
+#include "backend/given_labels.h"
+#include "backend/progressive_dcs.h"
+#include "core/errors.h"
+#include "core/logging.h"
+#include "core/timer.h"
+#include "system/map/object_report.h"
+#include "system/map/window_prior.h"
+#include "system/pipeline/estimate_sanity.h"
+#include "system/runtime/bounded_queue.h"
+#include "system/runtime/core_reservation.h"
+#include "system/runtime/thread_priority.h"
+#include "system/runtime/worker_pool.h"
+
+namespace cslam {
+
+namespace {
+
+// CPU time of the calling thread: on the shared 2-core machine wall time mostly measures the
+// other processes, and each stage runs on one thread.
+double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// Produces the tracklet table frame by frame: from images through the frontend, or by
+// replaying ready-made tracklets (synthetic sequences without images) in frame order, so the
+// backend sees the same growth either way.
+class TrackingStage {
+ public:
+  TrackingStage(const RunInput& input, const FrontendOptions& options) : input_(input) {
+    if (input.has_images()) frontend_.emplace(input.camera, options);
+  }
+
+  std::optional<FrameSummary> Process(int frame, const StereoFrame* images) {
+    if (frontend_) {
+      CSLAM_CHECK(images != nullptr, "the frontend needs images");
+      return frontend_->Process(frame, images->left, images->right, &table_);
+    }
+    const TrackletTable& given = *input_.observations;
+    for (const ObservationRef& ref : given.ObservationsAt(frame)) {
+      const StereoObservation& o = given.Get(ref);
+      table_.Add(o.landmark, o.frame, o.x, o.cov);
+    }
+    return std::nullopt;
+  }
+
+  TrackletTable& table() { return table_; }
+
+  /// Online mode: once `frame` is tracked and its windows are cut, frames more than a window
+  /// back are never read again (windows, break checks and pending tracks look back at most
+  /// window_frames frames).
+  void ForgetOld(int frame) {
+    if (keep_frames_ > 0) table_.ForgetBefore(frame + 1 - keep_frames_);
+  }
+  void EnableForgetting(int keep_frames) { keep_frames_ = keep_frames; }
+
+ private:
+  const RunInput& input_;
+  int keep_frames_ = 0;
+  std::optional<StereoFrontend> frontend_;
+  TrackletTable table_;
+};
+
+// Runs backend windows and folds them into the map.
+class BackendStage {
+ public:
+  /// `reservation` (may be null): the CPU kept for each window (threaded online runs).
+  BackendStage(const RunInput& input, const PipelineOptions& options, const BackendFunction& backend,
+               CoreReservation* reservation = nullptr)
+      : camera_(input.camera), options_(options),
+        backend_(backend ? backend : BackendFunction(RunBackend)), map_(options.map),
+        renders_(input, options.output, options.out_dir,
+                 !(options.mode == "online" && options.online.sequential),
+                 options.mode == "online" ? options.online.background_nice : 0, reservation),
+        reservation_(reservation) {}
+
+  /// `given` (may be null): the prior of a warm-started batch call (built from another map).
+  WindowStats Process(const TrackletTable& window_table, FrameRange range,
+                      const WindowPrior* given = nullptr) {
+    const CoreReservation::Scope reserved(reservation_);
+    WindowStats stats;
+    stats.range = range;
+    Timer timer;
+    const double cpu_start = ThreadCpuMs();
+    const TaskRunner* workers = options_.backend.motion.bundle_adjustment.runner.get();
+    const double worker_cpu_start = workers ? workers->HelperCpuMs() : 0.0;
+    BackendResult result;
+    try {
+      // Online ClusterSLAM windows start from what the map knows (the map is ours: this
+      // thread integrates every window).
+      std::optional<WindowPrior> own;
+      if (!given && options_.mode == "online" && options_.method == "clusterslam" &&
+          options_.backend.window_prior.enabled)
+        own = WindowPriorFromMap(map_, window_table, range);
+      stats.prior_ms = timer.ElapsedMs();
+      result = backend_(window_table, camera_, range, options_, given ? given : own ? &*own : nullptr);
+    } catch (const ConfigError&) {
+      throw;  // every later window would fail the same way
+    } catch (const std::exception& e) {
+      // A solver failure in one window must not end the run: the map goes on without it.
+      stats.failed = true;
+      GetLogger("system")->warn("window {}..{} discarded: the backend failed: {}", range.begin,
+                                range.end - 1, e.what());
+      return stats;
+    }
+    stats.backend_ms = timer.ElapsedMs();
+    stats.backend_cpu_ms = ThreadCpuMs() - cpu_start;
+    if (workers) stats.worker_cpu_ms = workers->HelperCpuMs() - worker_cpu_start;
+    stats.warm_started = result.warm_started;
+    stats.clusters = static_cast<int>(result.estimate.clusters.size());
+    stats.adjustment_failed = result.estimate.adjustment_failed;
+    if (stats.adjustment_failed)
+      GetLogger("system")->warn("window {}..{}: its bundle adjustment was not usable; integrated "
+                                "with the estimate before it (windows.csv, metrics.json "
+                                "run.adjustment_failed_windows)", range.begin, range.end - 1);
+    const EstimateSanity sanity = JudgeEstimate(result.estimate, window_table, camera_, options_.sanity);
+    if (!sanity.usable) {
+      stats.failed = true;
+      GetLogger("system")->warn("window {}..{} discarded: no usable estimate: {}", range.begin,
+                                range.end - 1, sanity.reason);
+      return stats;
+    }
+    if (const int dropped =
+            DropImplausibleClusterPoses(&result.estimate, window_table, camera_, options_.sanity))
+      GetLogger("system")->info("window {}..{}: {} moving-cluster pose(s) left out, they place "
+                                "their points over {} x farther than measured",
+                                range.begin, range.end - 1, dropped,
+                                options_.sanity.max_cluster_depth_ratio);
+    timer.Reset();
+    const double integrate_cpu_start = ThreadCpuMs();
+    stats.integration = map_.Integrate(result.estimate);
+    stats.integrate_ms = timer.ElapsedMs();
+    stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
+    stats.live_clusters = map_.NumLiveClusters();
+    stats.live_landmarks = map_.num_live_landmarks();
+    // A window's transient peaks (HAC's distance lists, the solves) leave freed pages that
+    // glibc keeps in the thread's arena; give them back so a long run's resident memory
+    // follows what it holds, not the sum of its peaks' fragments.
+    malloc_trim(0);
+    timer.Reset();
+    if (renders_.enabled())
+      renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range);
+    stats.render_ms = timer.ElapsedMs();
+    GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
+                              range.end - 1, stats.clusters,
+                              stats.integration.gap ? ", chained across a gap" : "");
+    last_result_ = std::move(result);
+    return stats;
+  }
+
+  MapState& map() { return map_; }
+  std::optional<BackendResult>& last_result() { return last_result_; }
+  FrameRenderStats FinishRenders() { return renders_.Finish(); }
+
+ private:
+  const StereoCamera& camera_;
+  const PipelineOptions& options_;
+  BackendFunction backend_;
+  MapState map_;
+  FrameRenders renders_;
+  CoreReservation* reservation_;
+  std::optional<BackendResult> last_result_;
+};
+
+// Frames between two samples of resident memory and time (resources.csv).
+constexpr int kResourceSampleEvery = 10;
+
+// A stretch after a tracking break needs this many frames to be worth a backend call.
+constexpr int kMinClippedFrames = 3;
+
+// Landmarks observed in both `frame` - 1 and `frame` (complete once `frame` is tracked).
+int SharedWithPrevious(const TrackletTable& table, int frame) {
+  if (frame <= 0 || frame >= table.num_frames()) return 0;
+  int shared = 0;
+  for (const ObservationRef& ref : table.ObservationsAt(frame))
+    if (ref.index > 0 && table.Get({ref.landmark, ref.index - 1}).frame == frame - 1) ++shared;
+  return shared;
+}
+
+// Decides, frame by frame, which backend windows are due: the last window_frames frames every
+// window_every frames, and a last one at the end so every frame gets a pose. No window spans a
+// tracking break (consecutive frames sharing fewer than min_shared_landmarks landmarks): the
+// two sides are unconnected and no solver can place one relative to the other. So a break
+// closes the stretch before it with a window of its own, and windows after it start at it.
+class WindowScheduler {
+ public:
+  explicit WindowScheduler(const OnlineOptions& o) : o_(o) {}
+
+  // Windows to run once frame `f` is tracked into `table`, in order.
+  std::vector<FrameRange> AfterFrame(const TrackletTable& table, int f) {
+    std::vector<FrameRange> due;
+    if (f > 0 && SharedWithPrevious(table, f) < o_.min_shared_landmarks) {
+      if (last_end_ < f && !broken_before_) {
+        // The frames since the last window would otherwise never be solved.
+        const FrameRange closing{std::max(segment_begin_, f - o_.window_frames), f};
+        if (closing.size() >= kMinClippedFrames) due.push_back(closing);
+        last_end_ = f;
+      }
+      if (!broken_before_)
+        GetLogger("system")->info("tracking break at frame {}: no window spans it", f);
+      broken_before_ = true;
+      segment_begin_ = f;
+    } else {
+      broken_before_ = false;
+    }
+    const int done = f + 1;
+    if (done >= o_.window_frames && (done - o_.window_frames) % o_.window_every == 0) {
+      if (auto w = Clip({done - o_.window_frames, done})) due.push_back(*w);
+      last_end_ = done;
+    }
+    return due;
+  }
+
+  // The window after the last frame, when frames since the last window have no pose yet.
+  std::optional<FrameRange> Final(int frames_done) {
+    if (frames_done <= 0 || last_end_ >= frames_done) return std::nullopt;
+    last_end_ = frames_done;
+    return Clip({std::max(0, frames_done - o_.window_frames), frames_done});
+  }
+
+  // A window that was not run after all (real-time mode, backend behind).
+  void Skipped(FrameRange w) { last_end_ = std::min(last_end_, w.begin); }
+
+ private:
+  std::optional<FrameRange> Clip(FrameRange r) const {
+    if (segment_begin_ <= r.begin) return r;
+    if (r.end - segment_begin_ < kMinClippedFrames) return std::nullopt;
+    return FrameRange{segment_begin_, r.end};
+  }
+
+  const OnlineOptions& o_;
+  int last_end_ = 0;        // end of the last window scheduled
+  int segment_begin_ = 0;   // first frame after the last tracking break
+  bool broken_before_ = false;  // the previous frame was a break too (e.g. a run of black frames)
+};
+
+// [0, frames) split at every tracking break; stretches too short to solve are left out
+// unless there is only one.
+std::vector<FrameRange> SegmentsBetweenBreaks(const TrackletTable& table, int frames,
+                                              const OnlineOptions& o) {
+  std::vector<FrameRange> all;
+  int begin = 0;
+  for (int f = 1; f <= frames; ++f)
+    if (f == frames || SharedWithPrevious(table, f) < o.min_shared_landmarks) {
+      all.push_back({begin, f});
+      begin = f;
+    }
+  if (all.size() <= 1) return all;
+  std::vector<FrameRange> kept;
+  for (const FrameRange& r : all)
+    if (r.size() >= kMinClippedFrames) kept.push_back(r);
+  GetLogger("system")->info("{} tracking break(s): {} stretch(es) long enough to solve",
+                            all.size() - 1, kept.size());
+  return kept;
+}
+
+bool StopRequested(const std::atomic<bool>* stop) { return stop && stop->load(); }
+
+// Whether the online system may release old observations (OnlineOptions::forget_observations):
+// not when the ground truth labels the frontend's landmarks from every observation.
+bool MayForget(const RunInput& input, const OnlineOptions& o) {
+  if (!o.forget_observations) return false;
+  if (input.kind == "synthetic_images" || (input.kind == "kitti_raw" && !input.gt_boxes.empty())) {
+    GetLogger("system")->info("observations kept for the whole run: the ground truth labels "
+                              "landmarks from them");
+    return false;
+  }
+  return true;
+}
+
+struct FrameItem {
+  int index = 0;
+  std::optional<StereoFrame> images;
+};
+
+struct WindowJob {
+  FrameRange range;
+  TrackletTable table;
+};
+
+class Pacer {
+ public:
+  explicit Pacer(const std::vector<double>& timestamps) : timestamps_(timestamps) {}
+  void WaitFor(int frame) {
+    if (frame >= static_cast<int>(timestamps_.size())) return;
+    const auto due = start_ + std::chrono::duration<double>(timestamps_[frame] - timestamps_[0]);
+    std::this_thread::sleep_until(due);
+  }
+
+ private:
+  const std::vector<double>& timestamps_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+FrameItem ReadFrame(const RunInput& input, int index, double* read_ms, double* read_cpu_ms) {
+  FrameItem item;
+  item.index = index;
+  if (input.has_images()) {
+    Timer t;
+    const double cpu = ThreadCpuMs();
+    item.images = input.images->Load(index);
+    *read_ms += t.ElapsedMs();
+    *read_cpu_ms += ThreadCpuMs() - cpu;
+  }
+  return item;
+}
+
+// Reads and tracks the frames in order on the calling thread; `after_frame(f)` runs once
+// frame f is tracked. Ends at the last frame, a stop request or a read failure (recorded in
+// `out`: what was tracked before it is kept). Returns the milliseconds spent decoding.
+double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
+                    const ProgressCallback& progress, TrackingStage* tracking,
+                    PipelineResult* out, const std::function<void(int)>& after_frame) {
+  const int n = input.num_frames();
+  double read_ms = 0, read_cpu_ms = 0;
+  ResourceSampler sampler(kResourceSampleEvery);
+  for (int f = 0; f < n; ++f) {
+    if (StopRequested(stop)) {
+      out->interrupted = true;
+      break;
+    }
+    FrameItem item;
+    try {
+      item = ReadFrame(input, f, &read_ms, &read_cpu_ms);
+    } catch (...) {
+      out->error = std::current_exception();
+      break;
+    }
+    if (auto s = tracking->Process(f, item.images ? &*item.images : nullptr))
+      out->frontend_frames.push_back(*s);
+    out->frames_processed = f + 1;
+    if (after_frame) after_frame(f);
+    sampler.AfterFrame(f + 1);
+    if (progress) progress(f + 1, n);
+  }
+  sampler.Finish(out->frames_processed);
+  out->resources = std::move(sampler.samples());
+  if (out->frames_processed) out->read_cpu_ms_per_frame = read_cpu_ms / out->frames_processed;
+  return read_ms;
+}
+
+// Batch warm start (BatchOptions): the online system's windows, in order on this thread, over
+// the already tracked `table`; returns the map they built (no renders).
+MapState OnlineMapOf(const RunInput& input, const TrackletTable& table, int frames,
+                     const PipelineOptions& options, const BackendFunction& backend_fn) {
+  Timer timer;
+  const double cpu_start = ThreadCpuMs();
+  PipelineOptions online = options;
+  online.mode = "online";
+  online.out_dir.clear();  // the warm-up renders nothing
+  BackendStage stage(input, online, backend_fn);
+  WindowScheduler windows(online.online);
+  int count = 0;
+  auto run_window = [&](FrameRange w) {
+    stage.Process(table.Slice(w), w);
+    ++count;
+  };
+  for (int f = 0; f < frames; ++f)
+    for (const FrameRange& w : windows.AfterFrame(table, f)) run_window(w);
+  if (auto w = windows.Final(frames)) run_window(*w);
+  (void)stage.FinishRenders();
+  GetLogger("system")->info("batch warm start: {} online windows, {:.0f} ms wall / {:.0f} ms "
+                            "thread CPU",
+                            count, timer.ElapsedMs(), ThreadCpuMs() - cpu_start);
+  return std::move(stage.map());
+}
+
+PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
+                        const std::atomic<bool>* stop, const ProgressCallback& progress,
+                        const BackendFunction& backend_fn) {
+  PipelineResult out;
+  TrackingStage tracking(input, options.frontend);
+  const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, {});
+  out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
+  if (out.frames_processed == 0) return out;
+  // One backend call per stretch between tracking breaks (normally the whole sequence).
+  const std::vector<FrameRange> segments =
+      SegmentsBetweenBreaks(tracking.table(), out.frames_processed, options.online);
+  std::optional<MapState> online_map;
+  PipelineOptions warm_options = options;
+  if (options.batch.warm_start && options.method == "clusterslam") {
+    online_map = OnlineMapOf(input, tracking.table(), out.frames_processed, options, backend_fn);
+    // The whole-sequence call from the online map's prior: batch.max_iterations rounds of
+    // model assignment + estimation with batch.ba_iterations LM iterations each.
+    warm_options.backend.window_prior.enabled = true;
+    warm_options.backend.window_prior.max_iterations = options.batch.max_iterations;
+    warm_options.backend.window_prior.ba_iterations = options.batch.ba_iterations;
+    // The whole-sequence solve is the last word on every frame: the batch tolerance, not the
+    // online windows' looser one.
+    warm_options.backend.window_prior.function_tolerance = 0;
+    // This also reaches the cold loop when the map's prior is unusable (too few of its
+    // windows kept); there the native solver was measured to end on other labellings
+    // (docs/benchmarks.md, "Native profile solver"), a rare case not worth a second stage.
+    warm_options.backend.motion.bundle_adjustment.native_sparse_solver =
+        options.batch.native_sparse_solver;
+  }
+  BackendStage backend(input, warm_options, backend_fn);
+  for (const FrameRange& r : segments) {
+    std::optional<TrackletTable> slice;
+    if (segments.size() > 1) slice = tracking.table().Slice(r);
+    const TrackletTable& t = slice ? *slice : tracking.table();
+    std::optional<WindowPrior> prior;
+    if (online_map) prior = WindowPriorFromMap(*online_map, t, r);
+    out.windows.push_back(backend.Process(t, r, prior ? &*prior : nullptr));
+  }
+  out.batch = std::move(backend.last_result());
+  out.renders = backend.FinishRenders();
+  out.map = std::move(backend.map());
+  out.table = std::move(tracking.table());
+  return out;
+}
+
+PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions& options,
+                                   const std::atomic<bool>* stop, const ProgressCallback& progress,
+                                   const BackendFunction& backend_fn) {
+  PipelineResult out;
+  TrackingStage tracking(input, options.frontend);
+  BackendStage backend(input, options, backend_fn);
+  WindowScheduler windows(options.online);
+  if (MayForget(input, options.online))
+    tracking.EnableForgetting(options.online.window_frames + options.online.window_every);
+  auto run_window = [&](FrameRange w) {
+    out.windows.push_back(backend.Process(tracking.table().Slice(w), w));
+  };
+  const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, [&](int f) {
+    for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) run_window(w);
+    tracking.ForgetOld(f);
+  });
+  if (!out.interrupted)
+    if (auto w = windows.Final(out.frames_processed)) run_window(*w);
+  out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
+  out.renders = backend.FinishRenders();
+  out.map = std::move(backend.map());
+  out.table = std::move(tracking.table());
+  return out;
+}
+
+PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& options,
+                                 const std::atomic<bool>* stop, const ProgressCallback& progress,
+                                 const BackendFunction& backend_fn, CoreReservation* reservation) {
+  PipelineResult out;
+  const int n = input.num_frames();
+  const OnlineOptions& online = options.online;
+  BoundedQueue<FrameItem> frames(online.frame_queue);
+  BoundedQueue<WindowJob> jobs(online.window_queue);
+  TrackingStage tracking(input, options.frontend);
+  if (MayForget(input, online)) tracking.EnableForgetting(online.window_frames + online.window_every);
+  BackendStage backend(input, options, backend_fn, reservation);
+  std::exception_ptr reader_error, frontend_error, backend_error;
+  std::atomic<bool> abort{false};
+  auto stopping = [&] { return abort.load() || StopRequested(stop); };
+  double read_ms = 0, read_cpu_ms = 0;
+
+  std::thread reader([&] {
+    LowerThisThreadPriorityOrWarn(online.background_nice, "reader");
+    const CoreReservation::Background background(reservation);
+    try {
+      Pacer pacer(input.timestamps);
+      for (int f = 0; f < n && !stopping(); ++f) {
+        if (online.realtime) pacer.WaitFor(f);
+        if (!frames.Push(ReadFrame(input, f, &read_ms, &read_cpu_ms))) break;
+      }
+    } catch (...) {
+      reader_error = std::current_exception();
+      abort = true;
+    }
+    frames.Stop();
+  });
+
+  ResourceSampler sampler(kResourceSampleEvery);
+  std::thread frontend([&] {
+    LowerThisThreadPriorityOrWarn(online.background_nice, "frontend");
+    const CoreReservation::Background background(reservation);
+    WindowScheduler windows(online);
+    try {
+      bool backend_gone = false;
+      while (auto item = frames.Pop()) {
+        if (stopping() || backend_gone) continue;  // drain without work so the reader can finish
+        const int f = item->index;
+        if (auto s = tracking.Process(f, item->images ? &*item->images : nullptr))
+          out.frontend_frames.push_back(*s);
+        out.frames_processed = f + 1;
+        if (progress) progress(f + 1, n);
+        for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) {
+          WindowJob job{w, tracking.table().Slice(w)};
+          if (online.realtime) {
+            if (!jobs.TryPush(std::move(job))) {
+              ++out.windows_skipped;
+              windows.Skipped(w);
+              GetLogger("system")->warn("backend behind: window {}..{} skipped", w.begin, w.end - 1);
+            }
+          } else if (!jobs.Push(std::move(job))) {
+            backend_gone = true;
+            break;
+          }
+        }
+        tracking.ForgetOld(f);
+        sampler.AfterFrame(f + 1);
+      }
+      if (!stopping() && !backend_gone) {
+        if (auto w = windows.Final(out.frames_processed))
+          jobs.Push(WindowJob{*w, tracking.table().Slice(*w)});
+      }
+    } catch (...) {
+      frontend_error = std::current_exception();
+      abort = true;
+      frames.Stop();
+    }
+    jobs.Stop();
+  });
+
+  std::thread backend_thread([&] {
+    try {
+      while (auto job = jobs.Pop()) {
+        if (stopping()) continue;
+        out.windows.push_back(backend.Process(job->table, job->range));
+      }
+    } catch (...) {
+      backend_error = std::current_exception();
+      abort = true;
+      jobs.Stop();
+      frames.Stop();
+    }
+  });
+
+  reader.join();
+  frontend.join();
+  backend_thread.join();
+  sampler.Finish(out.frames_processed);
+  out.resources = std::move(sampler.samples());
+  out.interrupted = StopRequested(stop);
+  out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
+  out.read_cpu_ms_per_frame = out.frames_processed ? read_cpu_ms / out.frames_processed : 0;
+  out.renders = backend.FinishRenders();
+  out.map = std::move(backend.map());
+  out.table = std::move(tracking.table());
+  for (const auto& e : {reader_error, frontend_error, backend_error})
+    if (e) {
+      out.error = e;
+      break;
+    }
+  return out;
+}
+
+// Where a run's time went, per stage (issue 5: the online system's frame rate). In online
+// mode the reader, frontend and backend run on their own threads, so these add up to more
+// than the wall time when the stages overlap.
+void LogStageTimes(const PipelineResult& out) {
+  double frontend_ms = 0, frontend_cpu_ms = 0;
+  for (const FrameSummary& f : out.frontend_frames) {
+    frontend_ms += f.total_ms;
+    frontend_cpu_ms += f.cpu_total_ms;
+  }
+  std::vector<double> backend_ms, backend_cpu_ms, worker_cpu_ms;
+  double backend_sum = 0, backend_cpu_sum = 0, worker_cpu_sum = 0, prior_sum = 0, integrate_sum = 0,
+         integrate_cpu_sum = 0, render_sum = 0;
+  int warm = 0;
+  for (const WindowStats& w : out.windows) {
+    if (w.backend_ms <= 0) continue;
+    backend_ms.push_back(w.backend_ms);
+    backend_cpu_ms.push_back(w.backend_cpu_ms);
+    backend_sum += w.backend_ms;
+    backend_cpu_sum += w.backend_cpu_ms;
+    worker_cpu_ms.push_back(w.worker_cpu_ms);
+    worker_cpu_sum += w.worker_cpu_ms;
+    prior_sum += w.prior_ms;
+    integrate_sum += w.integrate_ms;
+    integrate_cpu_sum += w.integrate_cpu_ms;
+    render_sum += w.render_ms;
+    warm += w.warm_started ? 1 : 0;
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+  };
+  const int frames = std::max(out.frames_processed, 1);
+  const int fe_frames = std::max(static_cast<int>(out.frontend_frames.size()), 1);
+  const int windows = std::max(static_cast<int>(backend_ms.size()), 1);
+  auto log = GetLogger("system");
+  log->info("stage times (wall / thread CPU): read {:.1f} / {:.1f} ms per frame; frontend "
+            "{:.1f} / {:.1f} ms per frame; backend {:.1f} / {:.1f} ms per window median, "
+            "{:.1f} / {:.1f} mean, {:.1f} / {:.1f} s in all; the backend's worker threads "
+            "{:.1f} ms CPU per window median, {:.1f} mean",
+            out.read_ms_per_frame, out.read_cpu_ms_per_frame, frontend_ms / fe_frames,
+            frontend_cpu_ms / fe_frames, median(backend_ms), median(backend_cpu_ms),
+            backend_sum / windows, backend_cpu_sum / windows, backend_sum / 1000.0,
+            backend_cpu_sum / 1000.0, median(worker_cpu_ms), worker_cpu_sum / windows);
+  log->info("backend windows: {} of {} warm-started; per window (mean): prior {:.1f} ms wall, "
+            "map integration {:.1f} / {:.1f} ms wall / CPU, queuing renders {:.1f} ms wall; run "
+            "wall {:.1f} s, {:.2f} frames/s",
+            warm, backend_ms.size(), prior_sum / windows, integrate_sum / windows,
+            integrate_cpu_sum / windows, render_sum / windows, out.total_s, out.total_s > 0 ? frames / out.total_s : 0.0);
+}
+
+/// The backend of method "true-labels": every window estimated with the generator's object
+/// of each landmark. Only replayed synthetic tracklets carry it (a frontend's landmarks have
+/// no object id).
+BackendFunction TrueLabelsBackend(const RunInput& input) {
+  CheckMethodFitsInput("true-labels", input);
+  const std::vector<int> labels = input.synthetic->landmark_object;
+  return [labels](const TrackletTable& table, const StereoCamera& camera, FrameRange range,
+                  const PipelineOptions& options, const WindowPrior*) {
+    const std::optional<TrackletTable> floored =
+        FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
+    return RunGivenLabels(floored ? *floored : table, camera, range, labels,
+                          options.backend.Effective().motion);
+  };
+}
+
+}  // namespace
+
+void CheckMethodFitsInput(const std::string& method, const RunInput& input) {
+  if (method != "true-labels" || (input.synthetic && !input.has_images())) return;
+  throw ConfigError("method true-labels: needs a synthetic sequence replayed without images "
+                    "(its landmarks carry their object ids); " + input.path + " is " +
+                    (input.kind == "synthetic_images" ? "a synthetic sequence with images "
+                                                        "(run it with input.use_images: false)"
+                                                      : "a " + input.kind + " sequence"));
+}
+
+BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
+                         const PipelineOptions& options, const WindowPrior* prior) {
+  if (options.method == "clusterslam")
+    return RunClusterSlamWindow(table, camera, range, options.backend, prior);
+  // The baselines get the same covariance floor as ClusterSLAM (it floors inside).
+  const std::optional<TrackletTable> floored =
+      FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
+  const TrackletTable& t = floored ? *floored : table;
+  if (options.method == "full-ba")
+    return RunFullBa(t, camera, range, options.backend.Effective().motion);
+  if (options.method == "true-labels")  // RunPipeline binds the labels (TrueLabelsBackend)
+    throw ConfigError("method true-labels: the labels come with the input; run it through RunPipeline");
+  return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
+}
+
+PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
+                           const std::atomic<bool>* stop, const ProgressCallback& progress,
+                           const BackendFunction& backend) {
+  Timer timer;
+  PipelineResult out;
+  PipelineOptions options = given;
+  BundleAdjustmentOptions& ba = options.backend.motion.bundle_adjustment;
+  // Threaded online runs keep a CPU for each window; its helpers run on the others. Shared,
+  // since the pool (and its hook) lives in the options.
+  const bool threaded = options.mode != "batch" && !options.online.sequential;
+  const auto reservation =
+      std::make_shared<CoreReservation>(threaded && options.online.reserve_core);
+  if (options.backend_threads > 1 && !ba.runner)
+    ba.runner = std::make_shared<WorkerPool>(options.backend_threads,
+                                             [reservation] { reservation->JoinBackground(); });
+  // The self-calibration wraps the backend call (system/pipeline/disparity_offset_calibration.h).
+  const BackendFunction chosen =
+      options.method == "true-labels" ? TrueLabelsBackend(input) : backend;
+  DisparityOffsetCalibrator calibrator(options.calibration, chosen ? chosen : BackendFunction(RunBackend),
+                                       input.timestamps);
+  const BackendFunction calibrated = [&calibrator](const TrackletTable& t, const StereoCamera& c,
+                                                   FrameRange r, const PipelineOptions& o,
+                                                   const WindowPrior* prior) {
+    return calibrator(t, c, r, o, prior);
+  };
+  const BackendFunction& call = options.calibration.estimate_disparity_offset ? calibrated : chosen;
+  if (options.mode == "batch") {
+    out = RunBatch(input, options, stop, progress, call);
+  } else if (options.online.sequential) {
+    out = RunOnlineSequential(input, options, stop, progress, call);
+  } else {
+    out = RunOnlineThreaded(input, options, stop, progress, call, reservation.get());
+  }
+  out.disparity_offset = calibrator.Record();
+  const int candidates = static_cast<int>(out.map.clusters().size());
+  const int released = KeepReportedObjects(&out.map, options.map);
+  GetLogger("system")->info("{} of {} moving clusters reported as objects; the landmarks of the "
+                            "other {} (under {} landmarks or {} frames) are outliers (-1)",
+                            candidates - released, candidates, released,
+                            options.map.report_min_landmarks, options.map.report_min_frames);
+  out.total_s = timer.ElapsedS();
+  LogStageTimes(out);
+  return out;
+}
+
+}  // namespace cslam

@@ -1,0 +1,135 @@
+#pragma once
+// Every option of a `cslam run`, in one tree that mirrors the YAML configs in configs/:
+//   preset, method, ablation, mode, input{}, frontend{}, backend{}, online{}, batch{}, map{}, sanity{},
+//   calibration{}, output{}.
+// Defaults come from the preset (indoor / outdoor backend parameters), then the YAML file,
+// then command-line flags; the effective tree is saved beside the outputs (config.yaml).
+#include <string>
+
+#include "backend/clusterslam.h"
+#include "core/options_reader.h"
+#include "frontend/stereo_frontend.h"
+#include "system/map/map_state.h"
+#include "system/pipeline/disparity_offset_calibration.h"
+#include "system/pipeline/estimate_sanity.h"
+#include "system/pipeline/run_input.h"
+
+namespace cslam {
+
+/// The online (sliding-window) system's scheduling (clusterslam_spec.md §7).
+struct OnlineOptions {
+  int window_frames = 30;   ///< frames per backend window (paper: 30)
+  int window_every = 5;     ///< a window is due every this many frames
+  int frame_queue = 4;      ///< decoded frames buffered between reader and frontend
+  int window_queue = 2;     ///< windows buffered between frontend and backend
+  bool realtime = false;    ///< pace input by timestamps; skip windows when the backend lags
+  bool sequential = false;  ///< run every stage in one thread, in order (deterministic)
+  /// [ours] Nice increment of every online thread but the backend's: the reader, the
+  /// frontend and the render writer (0–19). A frame's pose comes out of the backend window,
+  /// so the window is the latency that matters; when the two cores are oversubscribed the
+  /// kernel then serves the window first, and the others, which only have to keep ahead of it
+  /// (or draw what it estimated), catch up while the backend waits for the next window.
+  /// Measured on KITTI raw 0005 (docs/benchmarks.md, "Window latency"): 10 brings the median
+  /// window from 53 to 45 ms wall with the same run time and identical outputs.
+  int background_nice = 10;
+  /// [ours] While a window runs, keep the CPU it runs on for it: the reader, the frontend,
+  /// the render writer and the window's own helper threads move to the other CPUs, and get
+  /// every CPU back between windows (system/runtime/core_reservation.h). Threaded online runs only;
+  /// nothing to keep on one CPU. Same outputs. Measured on the demo's sequence
+  /// (docs/benchmarks.md, "A core for the window").
+  bool reserve_core = true;
+  /// Consecutive frames sharing fewer landmarks than this are a tracking break (black or
+  /// textureless frames, a jump): no window spans one; the map chains across it as a gap.
+  int min_shared_landmarks = 5;
+  /// Release observations older than any later window needs, so memory stays flat on long
+  /// runs. Kept anyway when the ground truth labels landmarks from their observations
+  /// (synthetic images, KITTI raw with tracklet boxes) and in batch mode.
+  bool forget_observations = true;
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// [ours] Batch mode's warm start (docs/usage.md, section `batch`): instead of the whole-sequence
+/// loop's cold first iteration (a pairwise clustering on camera-frame positions that labels the
+/// cars static, then a static solve that runs into its iteration cap), the online windows are
+/// run over the tracked sequence first and the whole sequence is then solved from the map they
+/// built (RunClusterSlamWindow with the map's prior over all frames: camera poses, static
+/// labels and positions; moving landmarks start unlabelled and are re-clustered). On by
+/// default since 2026-12-02 (docs/benchmarks.md, "Batch warm start by default"): on outdoor
+/// seeds 1–4 (200 frames) and indoor seeds 1–6 (100 frames) its accuracy and camera ATE are
+/// at least the cold loop's on the means, in a tenth to a third of the CPU, and at full length
+/// the cold loop loses the camera on outdoor seeds 2–3 where this does not. It inherits the
+/// online windows' failures: where the first 30-frame window takes the cars for the static
+/// world, so does the batch (cold loop: `warm_start: false`).
+struct BatchOptions {
+  bool warm_start = true;  ///< ClusterSLAM only; the baselines ignore it
+  /// Rounds of model assignment + estimation over the whole sequence from the prior
+  /// (backend.window_prior.max_iterations of that one call).
+  int max_iterations = 3;
+  /// LM iterations of each of those adjustments (backend.window_prior.ba_iterations).
+  int ba_iterations = 50;
+  /// The whole-sequence call's solves of at least sparse_schur_min_poses poses run on the
+  /// native profile solver (backend.motion.bundle_adjustment.native_sparse_solver of that
+  /// call; the online windows' solves are smaller and unaffected). On here although off for
+  /// the cold loop [measured]: from the map's prior the 200-frame static solve converges in
+  /// ~6 LM iterations to the cost Ceres' sparse normal Cholesky reaches, ~5× faster (outdoor
+  /// seed 4: 7.2 → 1.5 s), and every sequence measured ended on the same labelling; in the
+  /// cold loop the unconverged intermediate solves led to other labellings.
+  bool native_sparse_solver = true;
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// What is written besides the trajectories.
+struct OutputOptions {
+  int snapshots_every = 0;     ///< render/snapshot_NNNNNN.png every N frames; 0 = none
+  int overlays_every = 0;      ///< render/overlay_NNNNNN.png every N frames; 0 = none
+  bool dense_snapshots = false;  ///< snapshots also show SGBM points clustered by landmark
+  bool trajectory_plot = true;   ///< render/trajectory.png
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// All options of one run; see the file comment.
+struct PipelineOptions {
+  std::string preset = "outdoor";      ///< indoor | outdoor: backend parameters (ε, chunks)
+  std::string method = "clusterslam";  ///< clusterslam | full-ba | pdcs
+  std::string ablation = "none";       ///< none | no-u | no-i | p2p-icp
+  std::string mode = "online";         ///< online | batch
+  /// Threads for the backend's independent solves (each window's moving clusters and static
+  /// world side by side; system/runtime/worker_pool.h); 1: one after another. The estimate is the
+  /// same for any value. [ours, measured in docs/benchmarks.md "Window speed"]
+  int backend_threads = 2;
+  InputOptions input;
+  FrontendOptions frontend;
+  ClusterSlamOptions backend = ClusterSlamOptions::Outdoor();
+  OnlineOptions online;
+  BatchOptions batch;  ///< mode: batch only
+  MapStateOptions map;
+  EstimateSanityOptions sanity;  ///< when a backend window's estimate is refused
+  CalibrationOptions calibration;  ///< self-calibration of the stereo pair (disparity offset)
+  OutputOptions output;
+  /// Set by the command, not read from YAML: the run's output folder, where snapshots and
+  /// overlays are written during the run ("" = none are rendered).
+  std::string out_dir;
+  /// Where the settings came from ("built-in defaults", a file, or a built-in config): for
+  /// run.log and the first line of OUT/config.yaml. Not an option.
+  std::string source = "built-in defaults";
+
+  void Check() const;
+  /// Reads a YAML tree; `preset` is read first so the backend section overrides its values.
+  void Load(OptionsReader& r);
+  /// The effective configuration as YAML.
+  std::string ToYaml() const;
+  /// Applies `preset` (resets the backend options to that preset's values) and `ablation`.
+  void ApplyPreset(const std::string& preset_name);
+  void ApplyAblation(const std::string& ablation_name);
+};
+
+/// Defaults for a preset, optionally overridden by a YAML file ("" = none).
+/// The preset's defaults, then `config_file` when given, else the recommended configuration
+/// of `input_kind` (system/pipeline/builtin_configs.h) when there is one.
+PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file,
+                                    const std::string& input_kind = "");
+
+}  // namespace cslam

@@ -1,0 +1,136 @@
+#include "system/pipeline/run_input.h"
+
+#include <filesystem>
+
+#include "core/errors.h"
+#include "core/logging.h"
+#include "system/datasets/dataset.h"
+#include "system/datasets/kitti_odometry_reader.h"
+#include "system/synthetic/synthetic_image_io.h"
+#include "system/synthetic/synthetic_io.h"
+
+namespace cslam {
+
+namespace fs = std::filesystem;
+
+void InputOptions::Check() const {
+  CheckOption(max_frames >= 0, "input.max_frames", "must be >= 0 (0 = all frames)", max_frames);
+}
+
+void InputOptions::Load(OptionsReader& r) {
+  r.Read("color", &color);
+  r.Read("max_frames", &max_frames);
+  r.Read("use_images", &use_images);
+  r.Finish();
+}
+
+namespace {
+
+// Limits a source to its first n frames without touching the files beyond them.
+class TruncatedSource : public StereoSource {
+ public:
+  TruncatedSource(std::unique_ptr<StereoSource> inner, int n) : inner_(std::move(inner)), n_(n) {
+    timestamps_.assign(inner_->timestamps().begin(), inner_->timestamps().begin() + n_);
+  }
+  std::string name() const override { return inner_->name(); }
+  std::string kind() const override { return inner_->kind(); }
+  const StereoCamera& camera() const override { return inner_->camera(); }
+  int size() const override { return n_; }
+  const std::vector<double>& timestamps() const override { return timestamps_; }
+  StereoFrame Load(int index) const override { return inner_->Load(index); }
+  std::optional<std::vector<Pose>> GroundTruth() const override {
+    auto gt = inner_->GroundTruth();
+    if (gt && static_cast<int>(gt->size()) > n_) gt->resize(n_);
+    return gt;
+  }
+  std::vector<std::vector<ObjectBox>> ObjectBoxes() const override {
+    auto boxes = inner_->ObjectBoxes();
+    if (static_cast<int>(boxes.size()) > n_) boxes.resize(n_);
+    return boxes;
+  }
+  std::optional<GroundTruthCrossCheck> CrossCheck() const override {
+    auto check = inner_->CrossCheck();
+    if (check && static_cast<int>(check->positions.size()) > n_) check->positions.resize(n_);
+    if (check && static_cast<int>(check->position_accuracy_m.size()) > n_)
+      check->position_accuracy_m.resize(n_);
+    return check;
+  }
+
+ private:
+  std::unique_ptr<StereoSource> inner_;
+  int n_;
+  std::vector<double> timestamps_;
+};
+
+void TruncateSynthetic(SyntheticSequence* s, int n) {
+  if (n <= 0 || n >= s->num_frames()) return;
+  s->observations = s->observations.Slice({0, n});
+  s->timestamps.resize(n);
+  s->world_from_cam.resize(n);
+  for (auto& traj : s->world_from_object) traj.resize(n);
+}
+
+}  // namespace
+
+RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
+  options.Check();
+  RunInput in;
+  in.path = path;
+  const DatasetKind kind = DetectDataset(path);
+  if (kind == DatasetKind::kSynthetic) {
+    SyntheticSequence seq = ReadSynthetic(path);
+    TruncateSynthetic(&seq, options.max_frames);
+    in.name = seq.name.empty() ? fs::path(path).filename().string() : seq.name;
+    in.camera = seq.camera;
+    in.timestamps = seq.timestamps;
+    in.gt_world_from_cam = seq.world_from_cam;
+    if (HasSyntheticImages(path) && options.use_images) {
+      in.kind = "synthetic_images";
+      const std::string images_dir = SyntheticImagesDir(path);
+      std::unique_ptr<StereoSource> src = std::make_unique<KittiOdometrySource>(images_dir);
+      if (src->size() < static_cast<int>(in.timestamps.size()))
+        throw InputError((fs::path(images_dir) / "image_0").string(),
+                         "has " + std::to_string(src->size()) + " images but the sequence has " +
+                             std::to_string(in.timestamps.size()) + " frames");
+      if (src->size() > static_cast<int>(in.timestamps.size()))
+        src = std::make_unique<TruncatedSource>(std::move(src), static_cast<int>(in.timestamps.size()));
+      in.camera = src->camera();
+      in.images = std::move(src);
+    } else {
+      in.kind = "synthetic";
+      in.observations = seq.observations;
+    }
+    in.synthetic = std::move(seq);
+    return in;
+  }
+  std::unique_ptr<StereoSource> src = OpenStereoSource(path, options.color);
+  if (options.max_frames > 0 && options.max_frames < src->size())
+    src = std::make_unique<TruncatedSource>(std::move(src), options.max_frames);
+  if (src->size() == 0) throw InputError(path, "contains no stereo frames");
+  in.name = src->name();
+  in.kind = src->kind();
+  in.camera = src->camera();
+  in.timestamps = src->timestamps();
+  in.gt_world_from_cam = src->GroundTruth();
+  in.gt_boxes = src->ObjectBoxes();
+  in.gt_cross_check = src->CrossCheck();
+  in.images = std::move(src);
+  return in;
+}
+
+RunInput SyntheticRunInput(SyntheticSequence sequence, int max_frames) {
+  CheckOption(max_frames >= 0, "input.max_frames", "must be >= 0 (0 = all frames)", max_frames);
+  TruncateSynthetic(&sequence, max_frames);
+  RunInput in;
+  in.path = "(generated)";
+  in.name = sequence.name;
+  in.kind = "synthetic";
+  in.camera = sequence.camera;
+  in.timestamps = sequence.timestamps;
+  in.gt_world_from_cam = sequence.world_from_cam;
+  in.observations = sequence.observations;
+  in.synthetic = std::move(sequence);
+  return in;
+}
+
+}  // namespace cslam

@@ -1,0 +1,53 @@
+#pragma once
+// Whatever `cslam run INPUT` was pointed at, opened into one shape: a camera, per-frame
+// timestamps, either stereo images (a frontend makes the tracklets) or ready-made tracklets
+// (a synthetic sequence without images), and whatever ground truth the dataset carries.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/rigid.h"
+#include "core/stereo_camera.h"
+#include "core/tracklet_table.h"
+#include "system/datasets/stereo_source.h"
+#include "system/synthetic/synthetic_scene.h"
+
+namespace cslam {
+
+/// An opened input sequence; see the file comment.
+struct RunInput {
+  std::string path;
+  std::string name;   ///< sequence name for metrics.json
+  std::string kind;   ///< "kitti_raw", "kitti_odometry", "synthetic", "synthetic_images"
+  StereoCamera camera;
+  std::vector<double> timestamps;                     ///< seconds, per frame
+  std::unique_ptr<StereoSource> images;               ///< null: observations are given
+  std::optional<TrackletTable> observations;          ///< ready-made tracklets (synthetic)
+  std::optional<std::vector<Pose>> gt_world_from_cam; ///< per frame, world = camera at frame 0
+  std::optional<SyntheticSequence> synthetic;         ///< full synthetic ground truth
+  std::vector<std::vector<ObjectBox>> gt_boxes;       ///< [frame] labelled boxes (KITTI raw)
+  std::optional<GroundTruthCrossCheck> gt_cross_check; ///< the ground truth's own second estimate
+
+  int num_frames() const { return static_cast<int>(timestamps.size()); }
+  bool has_images() const { return images != nullptr; }
+};
+
+/// Options of the input stage.
+struct InputOptions {
+  bool color = false;     ///< KITTI raw: use the colour pair image_02/03 (converted to grey)
+  int max_frames = 0;     ///< 0 = all; otherwise only the first max_frames
+  bool use_images = true; ///< synthetic with images: false replays the stored tracklets instead
+  void Check() const;
+  void Load(OptionsReader& r);
+};
+
+/// Recognises the kind of `path` and opens it. Throws InputError naming the file and what
+/// was expected when it is none of the known kinds or is malformed.
+RunInput OpenRunInput(const std::string& path, const InputOptions& options);
+
+/// A generated synthetic sequence as an input of replayed tracklets (no images), cut to its
+/// first `max_frames` frames (0 = all) — what OpenRunInput gives for the same sequence on disk.
+RunInput SyntheticRunInput(SyntheticSequence sequence, int max_frames = 0);
+
+}  // namespace cslam

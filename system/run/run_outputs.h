@@ -1,0 +1,37 @@
+#pragma once
+// What a finished run leaves behind that the pictures are drawn from, as plain data: the
+// camera trajectory, the ground truth of the same frames (when the input had one), each moving
+// cluster's trajectory and the clustered landmarks. The run writer fills it from the map; the
+// reader (system/run/run_outputs_reader.h) fills it back from the files, so `cslam render` draws
+// the very same pictures.
+#include <Eigen/Core>
+#include <map>
+#include <vector>
+
+#include "system/eval/trajectory.h"
+
+namespace cslam {
+
+/// One row of clusters.csv.
+struct RunLandmark {
+  int id = 0;
+  int cluster = 0;       ///< 0 static, >= 1 moving
+  int first_frame = -1;  ///< first and last frame it was observed in
+  int last_frame = -1;
+  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();  ///< where it was at last_frame (see WorldPositionRule)
+};
+
+/// See the file comment.
+struct RunOutputs {
+  Trajectory camera;                ///< camera_trajectory.txt (frames of the poses)
+  Trajectory gt_camera;             ///< camera_trajectory_gt.txt; empty without ground truth
+  std::map<int, Trajectory> clusters;  ///< objects/<id>.txt by cluster id (frames of the poses)
+  std::vector<RunLandmark> landmarks;  ///< clusters.csv
+};
+
+/// The frame whose cluster pose places a moving landmark in clusters.csv: its last frame when
+/// the cluster has a pose there, else the cluster's last pose (index into `cluster.poses`).
+/// -1 when the cluster has no pose at all.
+int PlacingPoseIndex(const Trajectory& cluster, int last_frame);
+
+}  // namespace cslam

@@ -1,0 +1,99 @@
+#include "system/run/run_trajectory_plot.h"
+
+#include <algorithm>
+#include <map>
+#include <string>
+
+#include "core/logging.h"
+#include "system/render/cluster_colors.h"
+#include "system/render/trajectory_plot.h"
+
+namespace cslam {
+
+std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
+                                                     const TrajectoryPlotOptions& options) {
+  std::vector<RenderTrajectory> trajs;
+  if (!outputs.gt_camera.empty()) {
+    RenderTrajectory gt{"camera (ground truth)", {}, -1, true};
+    for (const Pose& p : outputs.gt_camera.poses) gt.positions.push_back(p.translation());
+    trajs.push_back(gt);
+  }
+  RenderTrajectory cam{"camera", {}, -1, false};
+  for (const Pose& p : outputs.camera.poses) cam.positions.push_back(p.translation());
+  trajs.push_back(cam);
+  // Clusters are plotted when they stay within this distance of the camera's start: the
+  // camera's own extent plus a margin for objects seen far ahead.
+  const Eigen::Vector3d start =
+      cam.positions.empty() ? Eigen::Vector3d::Zero() : cam.positions.front();
+  double plot_radius_m = 100.0;
+  for (const auto& p : cam.positions)
+    plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
+  // Draw each cluster's landmark centroid rather than its frame origin, which can lie
+  // anywhere (it is the camera frame at the cluster's first sighting). The landmarks are
+  // brought back into their cluster's frame by the pose that placed them in the world
+  // (PlacingPoseIndex); one pass over them gathers every cluster's centroid.
+  std::map<int, std::pair<Eigen::Vector3d, int>> centroids;
+  for (const RunLandmark& l : outputs.landmarks) {
+    if (l.cluster < 1) continue;
+    const auto c = outputs.clusters.find(l.cluster);
+    if (c == outputs.clusters.end()) continue;
+    const int k = PlacingPoseIndex(c->second, l.last_frame);
+    if (k < 0) continue;
+    auto& [sum, n] = centroids.try_emplace(l.cluster, Eigen::Vector3d::Zero(), 0).first->second;
+    sum += c->second.poses[k].inverse() * l.p_world;
+    ++n;
+  }
+  auto log = GetLogger("system");
+  // Biggest first, so the legend names the objects before the fragments.
+  std::vector<std::pair<int, int>> order;  // (landmarks, id)
+  int too_small = 0;
+  for (const auto& [id, c] : outputs.clusters) {
+    const auto it = centroids.find(id);
+    const int n = it == centroids.end() ? 0 : it->second.second;
+    if (c.size() < 2) continue;
+    if (static_cast<int>(c.size()) < options.min_poses || n < options.min_landmarks) {
+      ++too_small;
+      continue;
+    }
+    order.emplace_back(n, id);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [n, id] : order) {
+    const Trajectory& c = outputs.clusters.at(id);
+    // The landmark count and frame span tell an object (hundreds of points, many frames)
+    // from a fragment at a glance; the palette repeats every ten clusters.
+    RenderTrajectory t{"cluster " + std::to_string(id) + " (" + std::to_string(n) +
+                           " points, frames " + std::to_string(c.frames.front()) + "-" +
+                           std::to_string(c.frames.back()) + ")",
+                       {}, id, false};
+    const Eigen::Vector3d centroid =
+        n > 0 ? Eigen::Vector3d(centroids.at(id).first / n) : Eigen::Vector3d::Zero();
+    for (const Pose& pose : c.poses) t.positions.push_back(pose * centroid);
+    // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
+    // out of the plot and say so (its trajectory file is still written).
+    bool diverged = false;
+    for (const auto& p : t.positions)
+      diverged |= !p.allFinite() || (p - start).norm() > plot_radius_m;
+    if (diverged) {
+      log->warn("render/trajectory.png: cluster {} left out, it strays more than {:.0f} m from "
+                "the camera's path",
+                id, plot_radius_m);
+      continue;
+    }
+    trajs.push_back(t);
+  }
+  if (too_small > 0)
+    trajs.push_back({"+ " + std::to_string(too_small) + " small clusters not drawn (< " +
+                         std::to_string(options.min_landmarks) + " points or < " +
+                         std::to_string(options.min_poses) + " poses)",
+                     {}, kUndrawnClusters, false});
+  return trajs;
+}
+
+cv::Mat RenderRunTrajectoryPlot(const RunOutputs& outputs, int width, int height,
+                                const TrajectoryPlotOptions& options) {
+  return RenderTrajectoryTopView(RunTrajectoryPlotLines(outputs, options), width, height);
+}
+
+}  // namespace cslam

@@ -1,5 +1,0 @@
-#include "system/version.h"
-
-namespace cslam {
-std::string VersionString() { return "clusterslam " CSLAM_VERSION; }
-}  // namespace cslam

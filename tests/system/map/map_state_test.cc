@@ -1,0 +1,480 @@
+#include "system/map/map_state.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/errors.h"
+#include "tests/support/matchers.h"
+#include "tests/support/random.h"
+
+namespace cslam {
+namespace {
+
+// A ground-truth world: a camera driving forward and turning slowly, two objects with their
+// own motions, static landmarks and object landmarks fixed in their bodies.
+struct World {
+  std::vector<Pose> world_from_cam;
+  std::vector<std::vector<Pose>> world_from_object;  // [object 1..2 → index 0..1][frame]
+  std::vector<int> label;                            // 0 static, 1 or 2
+  std::vector<Eigen::Vector3d> p_in_object;          // world frame for static ones
+};
+
+Pose MakePose(double yaw, double x, double y, double z) {
+  Vector6d xi;
+  xi << 0, yaw, 0, x, y, z;
+  return PoseFromVector(xi);
+}
+
+World MakeWorld(int frames) {
+  World w;
+  for (int f = 0; f < frames; ++f) w.world_from_cam.push_back(MakePose(0.01 * f, 0.05 * f, 0, 1.0 * f));
+  w.world_from_object.resize(2);
+  for (int f = 0; f < frames; ++f) {
+    w.world_from_object[0].push_back(MakePose(0.02 * f, 3 + 0.1 * f, 0, 10 + 1.5 * f));
+    w.world_from_object[1].push_back(MakePose(-0.03 * f, -4 + 0.3 * f, 0, 20 - 0.5 * f));
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 60; ++i) {
+    w.label.push_back(i < 30 ? 0 : (i < 45 ? 1 : 2));
+    const Eigen::Vector3d d = testing::Draw3([&] { return u(rng); });
+    w.p_in_object.emplace_back(d.x() * (i < 30 ? 10 : 1), d.y(), d.z() * (i < 30 ? 10 : 2) + (i < 30 ? 30 : 0));
+  }
+  return w;
+}
+
+// What a perfect backend returns for a window: world = camera at range.begin, each cluster's
+// frame = an arbitrary per-window offset of the true body frame, labels permuted per window.
+MotionEstimate PerfectWindow(const World& w, FrameRange range, const std::map<int, int>& relabel) {
+  MotionEstimate e;
+  e.range = range;
+  const Pose window_from_world = w.world_from_cam[range.begin].inverse();
+  for (int f = range.begin; f < range.end; ++f)
+    e.world_from_cam.push_back(window_from_world * w.world_from_cam[f]);
+  e.landmark_cluster.assign(w.label.size(), -1);
+  e.landmark_in_cluster.assign(w.label.size(), Eigen::Vector3d::Constant(NAN));
+  std::vector<Pose> offset(3);
+  for (int obj = 1; obj <= 2; ++obj) offset[obj] = MakePose(0.3 * obj + 0.01 * range.begin, obj, -obj, 0.5);
+  for (size_t l = 0; l < w.label.size(); ++l) {
+    const int obj = w.label[l];
+    e.landmark_cluster[l] = obj == 0 ? 0 : relabel.at(obj);
+    e.landmark_in_cluster[l] =
+        obj == 0 ? Eigen::Vector3d(window_from_world * w.p_in_object[l])
+                 : Eigen::Vector3d(offset[obj].inverse() * w.p_in_object[l]);
+  }
+  for (int obj = 1; obj <= 2; ++obj) {
+    ClusterMotion m;
+    m.cluster = relabel.at(obj);
+    for (int f = range.begin; f < range.end; ++f) {
+      m.frames.push_back(f);
+      const Pose world_from_cluster = window_from_world * w.world_from_object[obj - 1][f] * offset[obj];
+      m.world_from_cluster.push_back(world_from_cluster);
+      m.cam_from_cluster.push_back(e.world_from_cam[f - range.begin].inverse() * world_from_cluster);
+    }
+    e.clusters.push_back(m);
+  }
+  std::sort(e.clusters.begin(), e.clusters.end(),
+            [](const ClusterMotion& a, const ClusterMotion& b) { return a.cluster < b.cluster; });
+  return e;
+}
+
+TEST(MapState, StitchesPerfectWindowsIntoTheTrueTrajectories) {
+  const World w = MakeWorld(60);
+  MapState map;
+  int k = 0;
+  for (int begin = 0; begin + 30 <= 60; begin += 5, ++k) {
+    // Window labels swap every other window: the map ids must not.
+    const std::map<int, int> relabel = (k % 2) ? std::map<int, int>{{1, 2}, {2, 1}}
+                                               : std::map<int, int>{{1, 1}, {2, 2}};
+    const WindowIntegration info = map.Integrate(PerfectWindow(w, {begin, begin + 30}, relabel));
+    if (k == 0) {
+      EXPECT_EQ(info.created, 2);
+    } else {
+      EXPECT_EQ(info.created, 0);
+      EXPECT_EQ(info.associated, 2);
+      EXPECT_FALSE(info.gap);
+    }
+  }
+  ASSERT_EQ(map.num_frames(), 60);
+  for (int f = 0; f < 60; ++f) {
+    ASSERT_TRUE(map.world_from_cam()[f].has_value());
+    EXPECT_TRUE(testing::PoseNear(*map.world_from_cam()[f], w.world_from_cam[f], 1e-9, 1e-9)) << f;
+  }
+  ASSERT_EQ(map.clusters().size(), 2u);
+  // Each map cluster follows one true object up to a constant body-frame offset.
+  for (const auto& [id, cluster] : map.clusters()) {
+    ASSERT_EQ(cluster.world_from_cluster.size(), 60u);
+    const int landmark = id == 1 ? 30 : 45;  // window 0 labelled object 1 → id 1
+    const int obj = w.label[landmark];
+    const Pose offset = w.world_from_object[obj - 1][0].inverse() * cluster.world_from_cluster.at(0);
+    for (const auto& [f, pose] : cluster.world_from_cluster)
+      EXPECT_TRUE(testing::PoseNear(pose, w.world_from_object[obj - 1][f] * offset, 1e-9, 1e-9));
+  }
+  for (size_t l = 0; l < w.label.size(); ++l) {
+    const auto p = map.WorldPosition(static_cast<int>(l), 42);
+    ASSERT_TRUE(p.has_value());
+    const Eigen::Vector3d truth = w.label[l] == 0 ? w.p_in_object[l]
+                                                  : w.world_from_object[w.label[l] - 1][42] * w.p_in_object[l];
+    EXPECT_TRUE(testing::MatrixNear(*p, truth, 1e-9));
+  }
+  EXPECT_EQ(map.ClusterOf(30), map.ClusterOf(44));
+  EXPECT_NE(map.ClusterOf(30), map.ClusterOf(45));
+  EXPECT_EQ(map.ClusterOf(0), 0);
+}
+
+// Gives the landmarks of `object` new ids in `e` (appended at the end), as a frontend does
+// when it loses an object's tracks and finds them again: the map cannot know they are the same.
+// Returns the new ids.
+std::vector<int> Reidentify(const World& w, int object, MotionEstimate* e) {
+  std::vector<int> fresh;
+  const size_t n = w.label.size();
+  for (size_t l = 0; l < n; ++l) {
+    if (w.label[l] != object) continue;
+    fresh.push_back(static_cast<int>(e->landmark_cluster.size()));
+    e->landmark_cluster.push_back(e->landmark_cluster[l]);
+    e->landmark_in_cluster.push_back(e->landmark_in_cluster[l]);
+    e->landmark_cluster[l] = -1;
+  }
+  return fresh;
+}
+
+// Expects map cluster `id` to follow true object `obj` up to a constant body-frame offset.
+void ExpectFollows(const World& w, const MapState& map, int id, int obj) {
+  const MapCluster& c = map.clusters().at(id);
+  const Pose offset = w.world_from_object[obj - 1][c.world_from_cluster.begin()->first].inverse() *
+                      c.world_from_cluster.begin()->second;
+  for (const auto& [f, pose] : c.world_from_cluster)
+    EXPECT_TRUE(testing::PoseNear(pose, w.world_from_object[obj - 1][f] * offset, 1e-6, 1e-6))
+        << "cluster " << id << " frame " << f;
+}
+
+TEST(MapState, AClusterWithTooLittleOverlapStartsANewIdWhenMergingIsOff) {
+  const World w = MakeWorld(40);
+  MapStateOptions o;
+  o.merge_agreeing_clusters = false;
+  MapState map(o);
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Second window: object 1's landmarks are re-identified under new ids (a new track set).
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
+  const size_t n = e.landmark_cluster.size();
+  for (size_t l = 0; l < n; ++l) {
+    if (w.label[l] != 1) continue;
+    e.landmark_cluster.push_back(e.landmark_cluster[l]);
+    e.landmark_in_cluster.push_back(e.landmark_in_cluster[l]);
+    e.landmark_cluster[l] = -1;
+  }
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 1);
+  EXPECT_EQ(info.associated, 1);
+  EXPECT_EQ(map.clusters().size(), 3u);
+}
+
+TEST(MapState, AnObjectSplitIntoTwoMapClustersIsMergedUnderTheOlderId) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Object 1 comes back under new landmark ids: no landmark ties it to map cluster 1, so the
+  // window starts a new cluster; its motion then matches cluster 1's over 25 frames.
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 2}, {2, 1}});
+  const std::vector<int> fresh = Reidentify(w, 1, &e);
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 1);
+  ASSERT_EQ(info.merged.size(), 1u);
+  EXPECT_EQ(info.merged[0], (std::pair<int, int>{1, 3}));
+  ASSERT_EQ(map.clusters().size(), 2u);
+  EXPECT_EQ(map.ClusterOf(30), 1);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  EXPECT_EQ(map.clusters().at(1).num_landmarks, 30);  // the old 15 and their 15 new ids
+  ASSERT_EQ(map.clusters().at(1).world_from_cluster.size(), 35u);
+  ExpectFollows(w, map, 1, 1);
+  ExpectFollows(w, map, 2, 2);
+  for (int l : fresh) {
+    const auto p = map.WorldPosition(l, 33);
+    ASSERT_TRUE(p.has_value());
+    const int original = static_cast<int>(l - w.label.size() + 30);  // object 1 = ids 30..44
+    EXPECT_TRUE(testing::MatrixNear(*p, w.world_from_object[0][33] * w.p_in_object[original], 1e-6));
+  }
+}
+
+// Object 1 comes back as a window cluster of only `kept` new landmarks, its motion perfect.
+struct Fragment {
+  MapState map;
+  WindowIntegration info;
+  std::vector<int> fresh;
+};
+Fragment ObjectReturnsWith(const World& w, size_t kept) {
+  Fragment f;
+  f.map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
+  f.fresh = Reidentify(w, 1, &e);
+  for (size_t k = kept; k < f.fresh.size(); ++k) {
+    e.landmark_cluster[f.fresh[k]] = -1;
+    e.landmark_in_cluster[f.fresh[k]] = Eigen::Vector3d::Constant(NAN);
+  }
+  f.info = f.map.Integrate(e);
+  return f;
+}
+
+TEST(MapState, AClusterOfTwoLandmarksIsNotMergedByItsMotion) {
+  const World w = MakeWorld(40);
+  // Its motion agrees with cluster 1's, but 2 points do not fix a rigid body's pose, so the
+  // map does not let it extend the object's trajectory.
+  const Fragment two = ObjectReturnsWith(w, 2);
+  EXPECT_EQ(two.info.created, 1);
+  EXPECT_TRUE(two.info.merged.empty());
+  EXPECT_NE(two.map.ClusterOf(two.fresh[0]), 1);
+  EXPECT_EQ(two.map.ClusterOf(two.fresh[0]), two.map.ClusterOf(two.fresh[1]));
+  // With 3 of them it is merged, as a fragment of the object.
+  const Fragment three = ObjectReturnsWith(w, 3);
+  ASSERT_EQ(three.info.merged.size(), 1u);
+  EXPECT_EQ(three.map.ClusterOf(three.fresh[0]), 1);
+}
+
+TEST(MapState, TwoObjectsWithDifferentMotionsAreNeverMerged) {
+  const World w = MakeWorld(60);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Both objects come back under new ids in every later window: each new cluster may only
+  // join the map cluster of its own object.
+  for (int begin = 5; begin + 30 <= 60; begin += 5) {
+    MotionEstimate e = PerfectWindow(w, {begin, begin + 30}, {{1, 1}, {2, 2}});
+    Reidentify(w, 1, &e);
+    Reidentify(w, 2, &e);
+    const WindowIntegration info = map.Integrate(e);
+    for (const auto& [older, younger] : info.merged) EXPECT_NE(older, 0) << "a moving object went static";
+  }
+  ASSERT_EQ(map.clusters().size(), 2u);
+  EXPECT_NE(map.ClusterOf(30), map.ClusterOf(45));
+  ExpectFollows(w, map, map.ClusterOf(30), 1);
+  ExpectFollows(w, map, map.ClusterOf(45), 2);
+}
+
+TEST(MapState, AFewMislabelledLandmarksDoNotTieAnObjectToAnotherCluster) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // Object 2 comes back under new ids, and the window wrongly puts four of object 1's
+  // landmarks into object 2's cluster: the only landmarks of that window cluster the map
+  // knows are cluster 1's.
+  MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}});
+  const std::vector<int> fresh = Reidentify(w, 2, &e);
+  for (int l = 30; l < 34; ++l) e.landmark_cluster[l] = 2;
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 1);  // object 2's window cluster did not continue cluster 1
+  ASSERT_EQ(map.clusters().size(), 2u);
+  EXPECT_EQ(map.ClusterOf(40), 1);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 2) << l;  // merged into object 2's old id
+  ExpectFollows(w, map, 1, 1);
+  ExpectFollows(w, map, 2, 2);
+}
+
+TEST(MapState, AClusterThatHoldsStillFoldsIntoTheStaticWorld) {
+  const World w = MakeWorld(40);
+  MapState map;
+  // The window wrongly calls ten static landmarks a moving cluster (label 3, not moving).
+  MotionEstimate e = PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}});
+  ClusterMotion still;
+  still.cluster = 3;
+  for (int f = 0; f < 30; ++f) {
+    still.frames.push_back(f);
+    still.world_from_cluster.push_back(Pose::Identity());
+    still.cam_from_cluster.push_back(e.world_from_cam[f].inverse());
+  }
+  e.clusters.push_back(still);
+  for (int l = 0; l < 10; ++l) e.landmark_cluster[l] = 3;
+  const WindowIntegration info = map.Integrate(e);
+  EXPECT_EQ(info.created, 3);
+  ASSERT_EQ(info.merged.size(), 1u);
+  EXPECT_EQ(info.merged[0], (std::pair<int, int>{0, 3}));
+  EXPECT_EQ(map.clusters().size(), 2u);
+  for (int l = 0; l < 10; ++l) {
+    EXPECT_EQ(map.ClusterOf(l), 0);
+    EXPECT_TRUE(testing::MatrixNear(*map.WorldPosition(l, 20), w.p_in_object[l], 1e-6));
+  }
+}
+
+// Windows whose trajectories are exact but whose object landmarks carry independent noise
+// (stereo depth noise at range): stitching by the trajectories continues each object without
+// a jump; aligning by the noisy shared landmarks makes it jump at every window.
+double WorstStitchError(bool stitch_by_motion) {
+  const World w = MakeWorld(60);
+  MapStateOptions options;
+  options.stitch_by_motion = stitch_by_motion;
+  options.merge_agreeing_clusters = false;
+  MapState map(options);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.2);
+  for (int begin = 0; begin + 30 <= 60; begin += 5) {
+    MotionEstimate e = PerfectWindow(w, {begin, begin + 30}, {{1, 1}, {2, 2}});
+    for (size_t l = 0; l < w.label.size(); ++l)
+      if (w.label[l] != 0) e.landmark_in_cluster[l] += testing::Draw3([&] { return noise(rng); });
+    map.Integrate(e);
+  }
+  double worst = 0;
+  for (const auto& [id, c] : map.clusters()) {
+    const int obj = w.label[id == 1 ? 30 : 45];
+    const Pose offset = w.world_from_object[obj - 1][0].inverse() * c.world_from_cluster.at(0);
+    for (const auto& [f, pose] : c.world_from_cluster)
+      worst = std::max(worst, ((w.world_from_object[obj - 1][f] * offset).inverse() * pose).translation().norm());
+  }
+  return worst;
+}
+
+TEST(MapState, StitchingByTheTrajectoriesIgnoresNoiseInTheSharedLandmarks) {
+  EXPECT_LT(WorstStitchError(true), 1e-6);
+  EXPECT_GT(WorstStitchError(false), 0.05);
+}
+
+TEST(MapState, OptionsRejectAToleranceThatCannotBeMet) {
+  MapStateOptions o;
+  o.motion_tolerance = 0;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o = {};
+  o.motion_min_frames = 1;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
+TEST(MapState, AWindowWithoutSharedFramesIsMarkedAsAGap) {
+  const World w = MakeWorld(80);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  const WindowIntegration info = map.Integrate(PerfectWindow(w, {40, 70}, {{1, 1}, {2, 2}}));
+  EXPECT_TRUE(info.gap);
+  ASSERT_EQ(map.gaps().size(), 1u);
+  EXPECT_EQ(map.gaps()[0], 40);
+  EXPECT_FALSE(map.world_from_cam()[35].has_value());
+  EXPECT_TRUE(map.world_from_cam()[69].has_value());
+}
+
+// Window 0 gets its newest five camera poses 0.3 m and 0.02 rad wrong (the least constrained
+// frames of a real window); window 1, which sees them with 25 frames of context, is exact.
+std::vector<std::optional<Pose>> CameraAfterABadWindowTip(int refine_camera_from) {
+  const World w = MakeWorld(40);
+  MapStateOptions options;
+  options.refine_camera_from = refine_camera_from;
+  MapState map(options);
+  MotionEstimate first = PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}});
+  for (int f = 25; f < 30; ++f) first.world_from_cam[f] = first.world_from_cam[f] * MakePose(0.02, 0.3, 0, 0);
+  map.Integrate(first);
+  const WindowIntegration info = map.Integrate(PerfectWindow(w, {5, 35}, {{1, 1}, {2, 2}}));
+  EXPECT_FALSE(info.gap);
+  EXPECT_EQ(info.anchor_frame, refine_camera_from > 0 ? 5 + refine_camera_from - 1 : 29);
+  return map.world_from_cam();
+}
+
+TEST(MapState, RefiningCameraPosesTakesTheLaterWindowsEstimateOfKnownFrames) {
+  const World w = MakeWorld(40);
+  const std::vector<std::optional<Pose>> refined = CameraAfterABadWindowTip(1);
+  ASSERT_EQ(refined.size(), 35u);
+  for (int f = 0; f < 35; ++f) {
+    ASSERT_TRUE(refined[f].has_value()) << f;
+    EXPECT_TRUE(testing::PoseNear(*refined[f], w.world_from_cam[f], 1e-9, 1e-9)) << f;
+  }
+}
+
+TEST(MapState, WithoutRefinementAFramesFirstEstimateStaysAndLaterFramesChainToIt) {
+  const World w = MakeWorld(40);
+  const std::vector<std::optional<Pose>> kept = CameraAfterABadWindowTip(0);
+  ASSERT_EQ(kept.size(), 35u);
+  for (int f = 25; f < 35; ++f) {
+    ASSERT_TRUE(kept[f].has_value()) << f;
+    EXPECT_FALSE(testing::PoseNear(*kept[f], w.world_from_cam[f], 0.005, 0.1)) << f;
+  }
+  // Refining from the middle of the window repairs the bad tip too (anchor at frame 19).
+  const std::vector<std::optional<Pose>> mid = CameraAfterABadWindowTip(15);
+  for (int f = 0; f < 35; ++f)
+    EXPECT_TRUE(testing::PoseNear(*mid[f], w.world_from_cam[f], 1e-9, 1e-9)) << f;
+}
+
+TEST(MapState, OptionsRejectANegativeRefinementIndex) {
+  MapStateOptions o;
+  o.refine_camera_from = -1;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
+}  // namespace
+}  // namespace cslam
+
+namespace cslam {
+namespace {
+
+// A window over `range`: camera driving along z, `statics` static landmarks with ids from
+// `first_id`, and (when `mover` ≥ 1) cluster `mover`'s 6 landmarks 100.. sliding along x.
+MotionEstimate RetireWindow(FrameRange range, int first_id, int statics, int mover) {
+  MotionEstimate e;
+  e.range = range;
+  Pose window_from_world = Pose::Identity();
+  window_from_world.translation() = Eigen::Vector3d(0, 0, -1.0 * range.begin);
+  for (int f = range.begin; f < range.end; ++f) {
+    Pose p = Pose::Identity();
+    p.translation() = Eigen::Vector3d(0, 0, f);
+    e.world_from_cam.push_back(window_from_world * p);
+  }
+  e.landmark_cluster.assign(110, -1);
+  e.landmark_in_cluster.assign(110, Eigen::Vector3d::Constant(NAN));
+  for (int l = first_id; l < first_id + statics; ++l) {
+    e.landmark_cluster[l] = 0;
+    e.landmark_in_cluster[l] = window_from_world * Eigen::Vector3d(l % 5, 1, 10 + l);
+  }
+  if (mover >= 1) {
+    ClusterMotion m;
+    m.cluster = mover;
+    for (int f = range.begin; f < range.end; ++f) {
+      Pose body = Pose::Identity();
+      body.translation() = Eigen::Vector3d(0.5 * f, 0, 0);
+      m.frames.push_back(f);
+      m.world_from_cluster.push_back(window_from_world * body);
+      m.cam_from_cluster.push_back(e.world_from_cam[f - range.begin].inverse() * m.world_from_cluster.back());
+    }
+    e.clusters.push_back(m);
+    for (int l = 100; l < 106; ++l) {
+      e.landmark_cluster[l] = mover;
+      e.landmark_in_cluster[l] = Eigen::Vector3d(l - 100, 0, 15);
+    }
+  }
+  return e;
+}
+
+TEST(MapState, LandmarksUnseenForAWhileAreRetiredButKeptForTheOutputs) {
+  MapStateOptions options;
+  options.retire_after_frames = 20;
+  MapState map(options);
+  map.Integrate(RetireWindow({0, 10}, 0, 30, 1));  // statics 0..29 and the mover
+  EXPECT_EQ(map.num_live_landmarks(), 36);
+  EXPECT_EQ(map.NumLiveClusters(), 1);
+  map.Integrate(RetireWindow({10, 20}, 30, 30, 0));  // statics 30..59 only
+  EXPECT_EQ(map.num_live_landmarks(), 66);           // the first window is 10 frames back
+  map.Integrate(RetireWindow({35, 45}, 60, 30, 0));  // 25 frames after the first window ended
+  EXPECT_EQ(map.num_live_landmarks(), 60);           // 0..29 and the mover's 6 retired
+  EXPECT_EQ(map.NumLiveClusters(), 0);
+  EXPECT_EQ(map.num_landmarks(), 96);
+  // Retired landmarks keep their cluster and place; the cluster keeps its trajectory.
+  ASSERT_EQ(map.clusters().size(), 1u);
+  const int id = map.clusters().begin()->first;
+  EXPECT_EQ(map.clusters().at(id).num_landmarks, 6);
+  EXPECT_EQ(map.ClusterOf(100), id);
+  EXPECT_EQ(map.ClusterOf(3), 0);
+  EXPECT_TRUE(map.WorldPosition(3, 40)->isApprox(Eigen::Vector3d(3, 1, 13), 1e-9));
+  EXPECT_EQ(static_cast<int>(map.Landmarks().size()), 96);
+  // Released at the end like any unreported cluster: its retired landmarks become outliers.
+  map.ReleaseCluster(id);
+  EXPECT_EQ(map.ClusterOf(100), -1);
+  // A landmark seen again is live again (0..4), while 30..59, last labelled at frame 19,
+  // retire now: 60..89 and 0..4 are live.
+  map.Integrate(RetireWindow({40, 50}, 0, 5, 0));
+  EXPECT_EQ(map.num_live_landmarks(), 35);
+  EXPECT_EQ(map.ClusterOf(2), 0);
+}
+
+TEST(MapState, NeverRetiringKeepsEveryLandmarkLive) {
+  MapStateOptions options;
+  options.retire_after_frames = 0;
+  MapState map(options);
+  map.Integrate(RetireWindow({0, 10}, 0, 30, 1));
+  map.Integrate(RetireWindow({100, 110}, 30, 30, 0));
+  EXPECT_EQ(map.num_live_landmarks(), 66);
+}
+
+}  // namespace
+}  // namespace cslam

@@ -1,0 +1,80 @@
+#include "system/map/object_report.h"
+
+#include <gtest/gtest.h>
+
+namespace cslam {
+namespace {
+
+// One window of 12 frames: a camera driving along z, 10 static landmarks and three moving
+// clusters: 1 with 6 landmarks posed in every frame, 2 with only 3 landmarks, 3 with 6
+// landmarks posed in 5 frames only. Cluster c drives along x at c m per frame (one motion each:
+// the map would merge clusters that move alike).
+MotionEstimate Window() {
+  MotionEstimate e;
+  e.range = {0, 12};
+  for (int f = 0; f < 12; ++f) {
+    Pose cam = Pose::Identity();
+    cam.translation() = Eigen::Vector3d(0, 0, f);
+    e.world_from_cam.push_back(cam);
+  }
+  const std::vector<int> sizes = {10, 6, 3, 6};
+  for (int c = 0; c < 4; ++c)
+    for (int i = 0; i < sizes[c]; ++i) {
+      e.landmark_cluster.push_back(c);
+      e.landmark_in_cluster.emplace_back(i, c, 20 + i);
+    }
+  for (int c = 1; c <= 3; ++c) {
+    ClusterMotion m;
+    m.cluster = c;
+    for (int f = 0; f < (c == 3 ? 5 : 12); ++f) {
+      Pose body = Pose::Identity();
+      body.translation() = Eigen::Vector3d(c * f, 0, 0);
+      m.frames.push_back(f);
+      m.world_from_cluster.push_back(body);
+      m.cam_from_cluster.push_back(e.world_from_cam[f].inverse() * body);
+    }
+    e.clusters.push_back(m);
+  }
+  return e;
+}
+
+TEST(ObjectReport, OnlyClustersWithEnoughLandmarksAndFramesAreReported) {
+  MapState map;
+  map.Integrate(Window());
+  ASSERT_EQ(map.clusters().size(), 3u);
+  MapStateOptions options;
+  options.report_min_landmarks = 5;
+  options.report_min_frames = 10;
+  EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1}));
+  options.report_min_landmarks = 3;
+  EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2}));
+  options.report_min_frames = 5;
+  EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2, 3}));
+}
+
+TEST(ObjectReport, TheOthersLandmarksBecomeOutliersWhereTheirClusterWasLastSeen) {
+  MapState map;
+  map.Integrate(Window());
+  MapStateOptions options;  // defaults: 5 landmarks, 10 frames
+  EXPECT_EQ(KeepReportedObjects(&map, options), 2);
+  ASSERT_EQ(map.clusters().size(), 1u);
+  EXPECT_EQ(map.clusters().begin()->first, 1);
+  int outliers = 0;
+  for (int l : map.Landmarks()) {
+    const int c = map.ClusterOf(l);
+    EXPECT_GE(c, -1);
+    if (c != -1) continue;
+    ++outliers;
+    // Landmarks 19..24 are cluster 3's, whose last pose (frame 4) is 12 m along x.
+    const std::optional<Eigen::Vector3d> p = map.WorldPosition(l, 0);
+    ASSERT_TRUE(p.has_value());
+    if (l >= 19) {
+      const int i = l - 19;
+      EXPECT_TRUE(p->isApprox(Eigen::Vector3d(i + 12, 3, 20 + i), 1e-12)) << l << ": " << p->transpose();
+    }
+  }
+  EXPECT_EQ(outliers, 3 + 6);
+}
+
+}  // namespace
+}  // namespace cslam
