@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs each libFuzzer target (fuzz/) for ${FUZZ_SECONDS:-60} s from its committed seed corpus
-# fuzz/corpus/<target>/. Needs the clang ASan build with CSLAM_BUILD_FUZZERS=ON in
+# Runs each libFuzzer target (fuzz/) for ${FUZZ_SECONDS:-30} s from its committed seed corpus
+# fuzz/corpus/<target>/ (a smoke run in CI; fuzz longer by hand with FUZZ_SECONDS). Needs the clang ASan build with CSLAM_BUILD_FUZZERS=ON in
 # ${ASAN_DIR:-build-asan} (scripts/sanitize.sh asan makes it; built here when missing).
 # New interesting inputs go to $ASAN_DIR/fuzz-corpus/<target>/ (not committed); a crash is
 # saved as $ASAN_DIR/fuzz-findings/<target>/crash-* and fails the script: fix it, then commit
@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ASAN_DIR=${ASAN_DIR:-build-asan}
-FUZZ_SECONDS=${FUZZ_SECONDS:-60}
+FUZZ_SECONDS=${FUZZ_SECONDS:-30}
 TARGETS=${FUZZ_TARGETS:-calibration oxts tracklets options synthetic}
 JOBS=${JOBS:-$(nproc)}
 export CC=clang CXX=clang++
@@ -18,7 +18,8 @@ export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 need_build=0
 for t in $TARGETS; do [[ -x $ASAN_DIR/fuzz/${t}_fuzzer ]] || need_build=1; done
 if [[ $need_build == 1 ]]; then
-  cmake -S . -B "$ASAN_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCSLAM_SANITIZE=address \
+  source scripts/sanitizers/build_args.sh
+  cmake -S . -B "$ASAN_DIR" -G Ninja "${SANITIZER_BUILD_ARGS[@]}" -DCSLAM_SANITIZE=address \
     -DCSLAM_BUILD_FUZZERS=ON
   cmake --build "$ASAN_DIR" -j "$JOBS" --target $(for t in $TARGETS; do echo "${t}_fuzzer"; done)
 fi
