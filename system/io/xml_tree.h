@@ -1,7 +1,7 @@
 #pragma once
-// A minimal XML reader for the data files we read (KITTI tracklet labels): elements, text and
-// line numbers; attributes, namespaces and DTDs are skipped. Keeps the line of every element
-// so readers can report "file:line: what was expected".
+// The XML tree of the data files we read (KITTI tracklet labels), parsed by tinyxml2: elements,
+// their text and line numbers; attributes are dropped. Keeps the line of every element so
+// readers can report "file:line: what was expected".
 #include <string>
 #include <vector>
 

@@ -26,15 +26,24 @@ TEST(XmlTree, ParsesElementsTextAndLineNumbers) {
   EXPECT_EQ(root.Find("missing"), nullptr);
 }
 
-TEST(XmlTree, MismatchedAndUnclosedTagsNameTheLine) {
+TEST(XmlTree, MalformedMarkupNamesTheFileAndLine) {
   EXPECT_THAT(testing::InputErrorMessage([] { ParseXml("<a>\n<b>\n</c>\n</a>", "t.xml"); }),
-              HasSubstr("t.xml:3: malformed XML: expected </b> (opened on line 2)"));
+              HasSubstr("t.xml:2: malformed XML: the element opened on this line is closed by a tag of another name"));
   EXPECT_THAT(testing::InputErrorMessage([] { ParseXml("<a>\n<b>x</b>\n", "t.xml"); }),
-              HasSubstr("<a> opened on line 1 is not closed"));
+              HasSubstr("t.xml:1: malformed XML: the element opened on this line is not closed"));
   EXPECT_THAT(testing::InputErrorMessage([] { ParseXml("", "t.xml"); }),
               HasSubstr("t.xml:1: malformed XML: expected an XML document"));
   EXPECT_THAT(testing::InputErrorMessage([] { ParseXml("<a></a>\n<b/>", "t.xml"); }),
-              HasSubstr("t.xml:2: malformed XML: expected a single root element"));
+              HasSubstr("t.xml:2: malformed XML: expected a single root element, got a second <b>"));
+  EXPECT_THAT(testing::InputErrorMessage([] { ParseXml("<a>\n\n<b x=1/></a>", "t.xml"); }),
+              HasSubstr("t.xml:3: malformed XML"));
+}
+
+TEST(XmlTree, TextAroundChildElementsIsConcatenatedAndCdataKept) {
+  const XmlElement root = ParseXml("<r>a<c/>b<![CDATA[<x>]]></r>", "t.xml");
+  EXPECT_EQ(root.text, "ab<x>");
+  ASSERT_EQ(root.children.size(), 1u);
+  EXPECT_EQ(root.children[0].name, "c");
 }
 
 }  // namespace
