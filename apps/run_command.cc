@@ -36,7 +36,7 @@ int Run(const RunArgs& args) {
   // The output folder is created only once the input and the configuration are known good.
   PrepareOutputFolder(out);
   AttachLogFile(out + "/run.log");
-  log->info("{} ({}, {} frames) → {}", input.path, input.kind, input.num_frames(), out);
+  log->info("{} ({}, {} frames) → {}", input.path, NameOf(kInputKindNames, input.kind), input.num_frames(), out);
   log->info("configuration: {}", options.source);
   log->info("effective configuration:\n{}", options.ToYaml());
 

@@ -35,15 +35,15 @@ extern "C" void OnSignal(int sig) {
 void RunFlags::Register(CLI::App* sub) {
   sub->add_option("--config", config, "YAML configuration (see configs/)")->check(CLI::ExistingFile);
   sub->add_option("--preset", preset, "backend parameters: indoor or outdoor")
-      ->check(CLI::IsMember({"indoor", "outdoor"}));
+      ->check(CLI::IsMember(NamesOf(kPresetNames)));
   sub->add_option("--method", method,
                   "backend: clusterslam, full-ba, pdcs, or true-labels (the reference with the "
                   "generator's labels; synthetic sequences without images)")
-      ->check(CLI::IsMember({"clusterslam", "full-ba", "pdcs", "true-labels"}));
+      ->check(CLI::IsMember(NamesOf(kMethodNames)));
   sub->add_option("--ablation", ablation, "none, no-u, no-i or p2p-icp")
-      ->check(CLI::IsMember({"none", "no-u", "no-i", "p2p-icp"}));
+      ->check(CLI::IsMember(NamesOf(kAblationNames)));
   sub->add_option("--mode", mode, "online (sliding windows, default) or batch (whole sequence)")
-      ->check(CLI::IsMember({"online", "batch"}));
+      ->check(CLI::IsMember(NamesOf(kRunModeNames)));
   sub->add_flag("--realtime", realtime, "pace the input by its timestamps; skip windows when late");
   sub->add_flag("--sequential", sequential, "run the online stages in one thread (deterministic)");
   sub->add_option("--snapshots-every", snapshots_every, "render a snapshot every N frames (0: off)")
@@ -65,16 +65,16 @@ InputOptions RunFlags::InputOptionsFor() const {
 }
 
 PipelineOptions RunFlags::Resolve(const RunInput& input) const {
-  std::string p = preset;
-  if (p.empty()) {
-    p = "outdoor";
-    if (input.synthetic && input.synthetic->name.rfind("indoor", 0) == 0) p = "indoor";
-  }
+  Preset p = Preset::kOutdoor;
+  if (!preset.empty())
+    p = ParseEnum(kPresetNames, preset, "--preset");
+  else if (input.synthetic && input.synthetic->name.rfind("indoor", 0) == 0)
+    p = Preset::kIndoor;
   PipelineOptions o = LoadPipelineOptions(p, config, input.kind);
-  if (!preset.empty()) o.ApplyPreset(preset);
-  if (!method.empty()) o.method = method;
-  if (!ablation.empty()) o.ApplyAblation(ablation);
-  if (!mode.empty()) o.mode = mode;
+  if (!preset.empty()) o.ApplyPreset(p);
+  if (!method.empty()) o.method = ParseEnum(kMethodNames, method, "--method");
+  if (!ablation.empty()) o.ApplyAblation(ParseEnum(kAblationNames, ablation, "--ablation"));
+  if (!mode.empty()) o.mode = ParseEnum(kRunModeNames, mode, "--mode");
   if (realtime) o.online.realtime = true;
   if (sequential) o.online.sequential = true;
   if (snapshots_every >= 0) o.output.snapshots_every = snapshots_every;

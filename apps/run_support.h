@@ -15,10 +15,11 @@ namespace cslam::apps {
 /// Flags shared by `run` and `demo`; each overrides the same field of PipelineOptions.
 struct RunFlags {
   std::string config;       ///< YAML file ("" = built-in defaults)
-  std::string preset;       ///< indoor | outdoor ("" = from the input kind)
-  std::string method;       ///< clusterslam | full-ba | pdcs
-  std::string ablation;     ///< none | no-u | no-i | p2p-icp
-  std::string mode;         ///< online | batch
+  // Words of kPresetNames, kMethodNames, kAblationNames, kRunModeNames ("" = not given).
+  std::string preset;       ///< "" = from the input kind
+  std::string method;
+  std::string ablation;
+  std::string mode;
   bool realtime = false;
   bool sequential = false;
   int snapshots_every = -1;

@@ -16,39 +16,22 @@
 
 namespace cslam {
 
-std::string ToString(ClusterSlamAblation ablation) {
-  switch (ablation) {
-    case ClusterSlamAblation::kNone: return "none";
-    case ClusterSlamAblation::kNoUncertainty: return "no_u";
-    case ClusterSlamAblation::kNoImagePrior: return "no_i";
-    case ClusterSlamAblation::kPointToPointIcp: return "p2p_icp";
-  }
-  return "none";
-}
-
-ClusterSlamAblation ParseAblation(const std::string& name, const std::string& key) {
-  for (auto a : {ClusterSlamAblation::kNone, ClusterSlamAblation::kNoUncertainty,
-                 ClusterSlamAblation::kNoImagePrior, ClusterSlamAblation::kPointToPointIcp})
-    if (ToString(a) == name) return a;
-  throw ConfigError(key + ": must be one of none, no_u, no_i, p2p_icp, got '" + name + "'");
-}
-
 void WindowPriorOptions::Check() const {
-  CheckOption(max_iterations >= 1, "clusterslam.window_prior.max_iterations", "must be >= 1",
+  CheckOption(max_iterations >= 1, "max_iterations", "must be >= 1",
               max_iterations);
-  CheckOption(ba_iterations >= 1, "clusterslam.window_prior.ba_iterations", "must be >= 1",
+  CheckOption(ba_iterations >= 1, "ba_iterations", "must be >= 1",
               ba_iterations);
-  CheckOption(moving_ba_iterations >= 0, "clusterslam.window_prior.moving_ba_iterations",
+  CheckOption(moving_ba_iterations >= 0, "moving_ba_iterations",
               "must be >= 0 (0: ba_iterations)", moving_ba_iterations);
   CheckOption(function_tolerance >= 0 && function_tolerance < 1,
-              "clusterslam.window_prior.function_tolerance", "must be in [0, 1)",
+              "function_tolerance", "must be in [0, 1)",
               function_tolerance);
   CheckOption(min_known_frames > 0 && min_known_frames <= 1,
-              "clusterslam.window_prior.min_known_frames", "must be in (0, 1]", min_known_frames);
+              "min_known_frames", "must be in (0, 1]", min_known_frames);
   CheckOption(min_known_landmarks >= 0 && min_known_landmarks <= 1,
-              "clusterslam.window_prior.min_known_landmarks", "must be in [0, 1]",
+              "min_known_landmarks", "must be in [0, 1]",
               min_known_landmarks);
-  CheckOption(free_known_frames >= 0, "clusterslam.window_prior.free_known_frames",
+  CheckOption(free_known_frames >= 0, "free_known_frames",
               "must be >= 0", free_known_frames);
 }
 
@@ -94,45 +77,31 @@ ClusterSlamOptions ClusterSlamOptions::Effective() const {
 }
 
 void ClusterSlamOptions::Check() const {
-  distance.Check();
-  hac.Check();
-  consensus.Check();
-  motion.Check();
-  assignment.Check();
-  window_prior.Check();
-  CheckOption(max_iterations >= 1, "clusterslam.max_iterations", "must be >= 1", max_iterations);
-  CheckOption(std::isfinite(convergence_vi) && convergence_vi >= 0, "clusterslam.convergence_vi",
+  CheckSection("distance", [&] { distance.Check(); });
+  CheckSection("hac", [&] { hac.Check(); });
+  CheckSection("consensus", [&] { consensus.Check(); });
+  CheckSection("motion", [&] { motion.Check(); });
+  CheckSection("assignment", [&] { assignment.Check(); });
+  CheckSection("window_prior", [&] { window_prior.Check(); });
+  CheckOption(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
+  CheckOption(std::isfinite(convergence_vi) && convergence_vi >= 0, "convergence_vi",
               "must be >= 0 (nats)", convergence_vi);
-  CheckOption(intermediate_ba_iterations >= 0, "clusterslam.intermediate_ba_iterations",
+  CheckOption(intermediate_ba_iterations >= 0, "intermediate_ba_iterations",
               "must be >= 0 (0 = shape initialisation only)", intermediate_ba_iterations);
-  CheckOption(std::isfinite(min_pixel_sigma) && min_pixel_sigma >= 0, "clusterslam.min_pixel_sigma",
+  CheckOption(std::isfinite(min_pixel_sigma) && min_pixel_sigma >= 0, "min_pixel_sigma",
               "must be >= 0 px", min_pixel_sigma);
-  CheckOption(refine_half_window >= 0, "clusterslam.refine_half_window", "must be >= 0 frames",
+  CheckOption(refine_half_window >= 0, "refine_half_window", "must be >= 0 frames",
               refine_half_window);
 }
 
 void ClusterSlamOptions::Load(OptionsReader& reader) {
-  OptionsReader d = reader.Section("distance");
-  distance.Load(d);
-  d.Finish();
-  OptionsReader h = reader.Section("hac");
-  hac.Load(h);
-  h.Finish();
-  OptionsReader c = reader.Section("consensus");
-  consensus.Load(c);
-  c.Finish();
-  OptionsReader m = reader.Section("motion");
-  motion.Load(m);
-  m.Finish();
-  OptionsReader a = reader.Section("assignment");
-  assignment.Load(a);
-  a.Finish();
-  OptionsReader w = reader.Section("window_prior");
-  window_prior.Load(w);
-  w.Finish();
-  std::string name = ToString(ablation);
-  reader.Read("ablation", &name);
-  ablation = ParseAblation(name, reader.Where("ablation"));
+  reader.ReadSection("distance", &distance);
+  reader.ReadSection("hac", &hac);
+  reader.ReadSection("consensus", &consensus);
+  reader.ReadSection("motion", &motion);
+  reader.ReadSection("assignment", &assignment);
+  reader.ReadSection("window_prior", &window_prior);
+  reader.Read("ablation", kAblationNames, &ablation);
   reader.Read("max_iterations", &max_iterations);
   reader.Read("refine_half_window", &refine_half_window);
   reader.Read("min_pixel_sigma", &min_pixel_sigma);

@@ -34,10 +34,14 @@ enum class ClusterSlamAblation {
   kNoImagePrior,     ///< "w/o I": no image prior in Eq. 1
   kPointToPointIcp,  ///< point-to-point ICP shape initialisation (passed to motion estimation)
 };
-/// "none", "no_u", "no_i", "p2p_icp".
-std::string ToString(ClusterSlamAblation ablation);
-/// Inverse of ToString; throws ConfigError naming `key` for an unknown name.
-ClusterSlamAblation ParseAblation(const std::string& name, const std::string& key);
+/// The ablations' one spelling, the same in YAML (`ablation`, `backend.ablation`) and on the
+/// command line (`--ablation`).
+inline constexpr EnumName<ClusterSlamAblation> kAblationNames[] = {
+    {ClusterSlamAblation::kNone, "none"},
+    {ClusterSlamAblation::kNoUncertainty, "no-u"},
+    {ClusterSlamAblation::kNoImagePrior, "no-i"},
+    {ClusterSlamAblation::kPointToPointIcp, "p2p-icp"},
+};
 
 /// [ours] The online warm start of RunClusterSlamWindow: how a window uses what the map already
 /// knows (backend/window_prior.h). YAML section `backend.window_prior`.

@@ -8,13 +8,13 @@
 namespace cslam {
 
 void ConsensusOptions::Check() const {
-  CheckOption(chunk_length >= 2, "consensus.chunk_length", "must be >= 2 frames", chunk_length);
-  CheckOption(chunk_overlap >= 0 && chunk_overlap < chunk_length, "consensus.chunk_overlap",
+  CheckOption(chunk_length >= 2, "chunk_length", "must be >= 2 frames", chunk_length);
+  CheckOption(chunk_overlap >= 0 && chunk_overlap < chunk_length, "chunk_overlap",
               "must be in [0, chunk_length)", chunk_overlap);
-  CheckOption(link_overlap > 0 && link_overlap <= 1, "consensus.link_overlap",
+  CheckOption(link_overlap > 0 && link_overlap <= 1, "link_overlap",
               "must be in (0, 1]", link_overlap);
-  CheckOption(max_iterations >= 1, "consensus.max_iterations", "must be >= 1", max_iterations);
-  CheckOption(min_cluster_size >= 1, "consensus.min_cluster_size", "must be >= 1",
+  CheckOption(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
+  CheckOption(min_cluster_size >= 1, "min_cluster_size", "must be >= 1",
               min_cluster_size);
 }
 

@@ -334,7 +334,7 @@ class OffsetProblem {
 void DisparityOffsetOptions::Check() const {
   CheckOption(min_track_length >= 2, "min_track_length", "must be >= 2", min_track_length);
   if (robust_kernel != "huber" && robust_kernel != "cauchy")
-    throw ConfigError("robust_kernel: must be huber or cauchy, got " + robust_kernel);
+    throw ConfigError("robust_kernel", "must be huber or cauchy, got " + robust_kernel);
   CheckOption(robust_threshold_chi2 > 0 && std::isfinite(robust_threshold_chi2),
               "robust_threshold_chi2", "must be finite and > 0", robust_threshold_chi2);
   CheckOption(min_pixel_sigma >= 0 && std::isfinite(min_pixel_sigma), "min_pixel_sigma",

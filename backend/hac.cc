@@ -8,8 +8,8 @@
 namespace cslam {
 
 void HacOptions::Check() const {
-  CheckOption(std::isfinite(epsilon), "hac.epsilon", "must be a finite number", epsilon);
-  CheckOption(max_dense_items >= 0 && max_dense_items <= 16384, "hac.max_dense_items",
+  CheckOption(std::isfinite(epsilon), "epsilon", "must be a finite number", epsilon);
+  CheckOption(max_dense_items >= 0 && max_dense_items <= 16384, "max_dense_items",
               "must be in [0, 16384]", max_dense_items);
 }
 

@@ -11,40 +11,40 @@
 namespace cslam {
 
 void ModelAssignmentOptions::Check() const {
-  CheckOption(std::isfinite(fit_threshold) && fit_threshold > 0, "model_assignment.fit_threshold",
+  CheckOption(std::isfinite(fit_threshold) && fit_threshold > 0, "fit_threshold",
               "must be a reduced chi-square > 0", fit_threshold);
-  CheckOption(std::isfinite(static_margin) && static_margin >= 0, "model_assignment.static_margin",
+  CheckOption(std::isfinite(static_margin) && static_margin >= 0, "static_margin",
               "must be >= 0", static_margin);
-  CheckOption(min_coverage > 0 && min_coverage <= 1, "model_assignment.min_coverage",
+  CheckOption(min_coverage > 0 && min_coverage <= 1, "min_coverage",
               "must be in (0, 1]", min_coverage);
-  CheckOption(merge_fraction > 0 && merge_fraction <= 1, "model_assignment.merge_fraction",
+  CheckOption(merge_fraction > 0 && merge_fraction <= 1, "merge_fraction",
               "must be in (0, 1]", merge_fraction);
-  CheckOption(std::isfinite(merge_ratio) && merge_ratio >= 1, "model_assignment.merge_ratio",
+  CheckOption(std::isfinite(merge_ratio) && merge_ratio >= 1, "merge_ratio",
               "must be >= 1", merge_ratio);
-  CheckOption(std::isfinite(merge_slack) && merge_slack >= 0, "model_assignment.merge_slack",
+  CheckOption(std::isfinite(merge_slack) && merge_slack >= 0, "merge_slack",
               "must be >= 0", merge_slack);
-  CheckOption(std::isfinite(outlier_alpha) && outlier_alpha >= 0, "model_assignment.outlier_alpha",
+  CheckOption(std::isfinite(outlier_alpha) && outlier_alpha >= 0, "outlier_alpha",
               "must be >= 0", outlier_alpha);
   CheckOption(std::isfinite(outlier_max_extent_m) && outlier_max_extent_m >= 0,
-              "model_assignment.outlier_max_extent_m", "must be >= 0 m (0 = off)",
+              "outlier_max_extent_m", "must be >= 0 m (0 = off)",
               outlier_max_extent_m);
-  CheckOption(min_outlier_cluster >= 1, "model_assignment.min_outlier_cluster", "must be >= 1",
+  CheckOption(min_outlier_cluster >= 1, "min_outlier_cluster", "must be >= 1",
               min_outlier_cluster);
-  CheckOption(max_dropped_samples >= 0, "model_assignment.max_dropped_samples", "must be >= 0",
+  CheckOption(max_dropped_samples >= 0, "max_dropped_samples", "must be >= 0",
               max_dropped_samples);
   CheckOption(std::isfinite(sample_gate_chi2) && sample_gate_chi2 > 0,
-              "model_assignment.sample_gate_chi2", "must be a chi-square > 0", sample_gate_chi2);
+              "sample_gate_chi2", "must be a chi-square > 0", sample_gate_chi2);
   CheckOption(min_own_fit_fraction >= 0 && min_own_fit_fraction <= 1,
-              "model_assignment.min_own_fit_fraction", "must be in [0, 1]", min_own_fit_fraction);
-  CheckOption(core_cluster_landmarks >= 0, "model_assignment.core_cluster_landmarks",
+              "min_own_fit_fraction", "must be in [0, 1]", min_own_fit_fraction);
+  CheckOption(core_cluster_landmarks >= 0, "core_cluster_landmarks",
               "must be >= 0", core_cluster_landmarks);
-  CheckOption(min_cluster_landmarks >= 0, "model_assignment.min_cluster_landmarks", "must be >= 0",
+  CheckOption(min_cluster_landmarks >= 0, "min_cluster_landmarks", "must be >= 0",
               min_cluster_landmarks);
-  CheckOption(max_reclusterings >= 1, "model_assignment.max_reclusterings", "must be >= 1",
+  CheckOption(max_reclusterings >= 1, "max_reclusterings", "must be >= 1",
               max_reclusterings);
-  moving_test.Check();
+  CheckSection("moving_test", [&] { moving_test.Check(); });
   CheckOption(std::isfinite(min_relative_motion) && min_relative_motion >= 0,
-              "model_assignment.min_relative_motion", "must be >= 0 (RMS / mean range)",
+              "min_relative_motion", "must be >= 0 (RMS / mean range)",
               min_relative_motion);
 }
 
@@ -66,9 +66,7 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("core_cluster_landmarks", &core_cluster_landmarks);
   reader.Read("test_moving", &test_moving);
   reader.Read("min_relative_motion", &min_relative_motion);
-  OptionsReader section = reader.Section("moving_test");
-  moving_test.Load(section);
-  section.Finish();
+  reader.ReadSection("moving_test", &moving_test);
   reader.Read("max_reclusterings", &max_reclusterings);
 }
 

@@ -10,13 +10,13 @@
 namespace cslam {
 
 void MotionDistanceOptions::Check() const {
-  CheckOption(std::isfinite(alpha) && alpha >= 0, "motion_distance.alpha",
+  CheckOption(std::isfinite(alpha) && alpha >= 0, "alpha",
               "must be a finite number >= 0", alpha);
-  CheckOption(min_co_observations >= 2, "motion_distance.min_co_observations",
+  CheckOption(min_co_observations >= 2, "min_co_observations",
               "must be >= 2 (a variance needs two frames)", min_co_observations);
   CheckOption(std::isfinite(min_variance_m2) && min_variance_m2 >= 1e-12 && min_variance_m2 <= 1.0,
-              "motion_distance.min_variance_m2", "must be in [1e-12, 1] m^2", min_variance_m2);
-  CheckOption(std::isfinite(max_extent_m) && max_extent_m >= 0, "motion_distance.max_extent_m",
+              "min_variance_m2", "must be in [1e-12, 1] m^2", min_variance_m2);
+  CheckOption(std::isfinite(max_extent_m) && max_extent_m >= 0, "max_extent_m",
               "must be >= 0 m (0 = off)", max_extent_m);
 }
 

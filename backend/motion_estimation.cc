@@ -18,26 +18,13 @@ const ClusterMotion* MotionEstimate::FindCluster(int label) const {
 }
 
 void MotionEstimationOptions::Check() const {
-  // Prefix the section so the message names the full key path.
-  try {
-    shape_init.Check();
-  } catch (const ConfigError& e) {
-    throw ConfigError(std::string("shape_init.") + e.what());
-  }
-  try {
-    bundle_adjustment.Check();
-  } catch (const ConfigError& e) {
-    throw ConfigError(std::string("bundle_adjustment.") + e.what());
-  }
+  CheckSection("shape_init", [&] { shape_init.Check(); });
+  CheckSection("bundle_adjustment", [&] { bundle_adjustment.Check(); });
 }
 
 void MotionEstimationOptions::Load(OptionsReader& reader) {
-  OptionsReader shape_reader = reader.Section("shape_init");
-  shape_init.Load(shape_reader);
-  shape_reader.Finish();
-  OptionsReader ba_reader = reader.Section("bundle_adjustment");
-  bundle_adjustment.Load(ba_reader);
-  ba_reader.Finish();
+  reader.ReadSection("shape_init", &shape_init);
+  reader.ReadSection("bundle_adjustment", &bundle_adjustment);
   reader.Read("point_to_point_icp", &point_to_point_icp);
   reader.Read("run_bundle_adjustment", &run_bundle_adjustment);
   reader.Read("hold_out_inconsistent_landmarks", &hold_out_inconsistent_landmarks);

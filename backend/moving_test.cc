@@ -9,14 +9,14 @@
 namespace cslam {
 
 void MovingTestOptions::Check() const {
-  CheckOption(false_alarm > 0 && false_alarm < 1, "moving_test.false_alarm",
+  CheckOption(false_alarm > 0 && false_alarm < 1, "false_alarm",
               "must be a probability in (0, 1)", false_alarm);
   CheckOption(std::isfinite(sample_gate_chi2) && sample_gate_chi2 > 0,
-              "moving_test.sample_gate_chi2", "must be a chi-square > 0", sample_gate_chi2);
+              "sample_gate_chi2", "must be a chi-square > 0", sample_gate_chi2);
   CheckOption(std::isfinite(max_disparity_offset_px) && max_disparity_offset_px >= 0,
-              "moving_test.max_disparity_offset_px", "must be >= 0 px (0: off)",
+              "max_disparity_offset_px", "must be >= 0 px (0: off)",
               max_disparity_offset_px);
-  CheckOption(std::isfinite(model_error_px) && model_error_px >= 0, "moving_test.model_error_px",
+  CheckOption(std::isfinite(model_error_px) && model_error_px >= 0, "model_error_px",
               "must be >= 0 px (0: the keypoint covariances alone)", model_error_px);
 }
 

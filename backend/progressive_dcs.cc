@@ -11,7 +11,7 @@
 namespace cslam {
 
 void ProgressiveDcsOptions::Check() const {
-  estimation.Check();
+  CheckSection("estimation", [&] { estimation.Check(); });
   CheckOption(outlier_fraction > 0 && outlier_fraction < 1, "outlier_fraction", "must be in (0, 1)",
               outlier_fraction);
   CheckOption(min_outliers >= 1, "min_outliers", "must be >= 1", min_outliers);
@@ -19,9 +19,7 @@ void ProgressiveDcsOptions::Check() const {
 }
 
 void ProgressiveDcsOptions::Load(OptionsReader& reader) {
-  OptionsReader sub = reader.Section("estimation");
-  estimation.Load(sub);
-  sub.Finish();
+  reader.ReadSection("estimation", &estimation);
   reader.Read("outlier_fraction", &outlier_fraction);
   reader.Read("min_outliers", &min_outliers);
   reader.Read("max_passes", &max_passes);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <utility>
 
 namespace cslam {
 
@@ -12,6 +13,9 @@ std::string Located(const std::string& file, int line, const std::string& what) 
   return s + ": " + what;
 }
 }  // namespace
+
+ConfigError::ConfigError(std::string key, const std::string& rule)
+    : Error(key + ": " + rule), key_(std::move(key)), rule_(rule) {}
 
 InputError::InputError(const std::string& file, int line, const std::string& what)
     : Error(Located(file, line, what)) {}

@@ -35,7 +35,18 @@ class Error : public std::runtime_error {
 class ConfigError : public Error {
  public:
   using Error::Error;
+  /// "key: rule". Keeping `key` (a dotted path relative to the section that threw) apart lets
+  /// each enclosing section prefix its own name, and the loader add the file and line.
+  ConfigError(std::string key, const std::string& rule);
   int exit_code() const override { return kExitConfigError; }
+  /// The key path; empty when the error was not raised for one key.
+  const std::string& key() const { return key_; }
+  /// What is wrong with the value at key() ("must be >= 1, got 0").
+  const std::string& rule() const { return rule_; }
+
+ private:
+  std::string key_;
+  std::string rule_;
 };
 
 /// An input file or folder is missing, unreadable or malformed.

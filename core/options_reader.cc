@@ -25,7 +25,7 @@ OptionsReader::OptionsReader(YAML::Node node, std::string source, std::string pa
       const auto [it, fresh] = first_line.emplace(key, line);
       if (!fresh)
         throw ConfigError(source_ + ":" + std::to_string(line) + ": " +
-                          (path_.empty() ? key : path_ + "." + key) +
+                          PathOf(key) +
                           " given twice (first on line " + std::to_string(it->second) +
                           "); merge the two into one");
     }
@@ -66,8 +66,41 @@ std::string OptionsReader::Dump() const {
   return std::string(out.c_str()) + "\n";
 }
 
+std::string OptionsReader::PathOf(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+namespace {
+// "file:12" or "file" when yaml-cpp has no position (nodes built in code, absent keys).
+std::string AtLine(const std::string& source, int line) {
+  return line > 0 ? source + ":" + std::to_string(line) : source;
+}
+}  // namespace
+
 std::string OptionsReader::Where(const std::string& key) const {
-  return source_ + ": " + (path_.empty() ? key : path_ + "." + key);
+  return AtLine(source_, LineOf(key)) + ": " + PathOf(key);
+}
+
+int OptionsReader::LineOf(const std::string& path) const {
+  YAML::Node node = node_;
+  std::string rest = path;
+  while (node && node.IsMap()) {
+    const std::size_t dot = rest.find('.');
+    const std::string key = rest.substr(0, dot);
+    YAML::Node next;
+    int line = 0;
+    for (const auto& entry : node) {
+      if (entry.first.IsScalar() && entry.first.Scalar() == key) {
+        next = entry.second;
+        line = entry.first.Mark().line + 1;
+        break;
+      }
+    }
+    if (dot == std::string::npos || line == 0) return line;
+    node = next;
+    rest = rest.substr(dot + 1);
+  }
+  return 0;
 }
 
 bool OptionsReader::Has(const std::string& key) const {
@@ -144,39 +177,41 @@ void OptionsReader::Read(const std::string& key, std::vector<double>* value) {
 OptionsReader OptionsReader::Section(const std::string& key) {
   if (dumping_) {
     if (!node_[key]) node_[key] = YAML::Node(YAML::NodeType::Map);
-    OptionsReader child(node_[key], source_, path_.empty() ? key : path_ + "." + key);
+    OptionsReader child(node_[key], source_, PathOf(key));
     child.dumping_ = true;
     return child;
   }
   const YAML::Node n = Get(key);
-  return OptionsReader(n.IsDefined() ? n : YAML::Node(), source_, path_.empty() ? key : path_ + "." + key);
+  return OptionsReader(n.IsDefined() ? n : YAML::Node(), source_, PathOf(key));
 }
 
 void OptionsReader::Finish() const {
   if (dumping_) return;
   if (!node_ || !node_.IsMap()) return;
-  std::vector<std::string> unknown;
+  std::vector<std::string> known;
+  for (const auto& k : read_keys_)
+    if (std::find(known.begin(), known.end(), k) == known.end()) known.push_back(k);
+  std::string known_list;
+  for (const auto& k : known) known_list += (known_list.empty() ? "" : ", ") + k;
+  if (known_list.empty()) known_list = "none";
+  std::string msg;
   for (const auto& kv : node_) {
     // A key that is itself a list or mapping ("? [a, b]: 1") can never be known; name it by
     // its line (found by fuzz/options_fuzzer: as<std::string>() threw a YAML exception).
-    const std::string k = kv.first.IsScalar()
-                              ? kv.first.Scalar()
-                              : "<non-scalar key on line " + std::to_string(kv.first.Mark().line + 1) + ">";
-    if (std::find(read_keys_.begin(), read_keys_.end(), k) == read_keys_.end())
-      unknown.push_back(k);
+    const std::string k = kv.first.IsScalar() ? kv.first.Scalar() : "<non-scalar key>";
+    if (kv.first.IsScalar() && std::find(known.begin(), known.end(), k) != known.end()) continue;
+    if (!msg.empty()) msg += "\n";
+    msg += AtLine(source_, kv.first.Mark().line + 1) + ": " + PathOf(k) +
+           ": unknown key (known: " + known_list + ")";
   }
-  if (unknown.empty()) return;
-  std::ostringstream msg;
-  msg << "unknown key" << (unknown.size() > 1 ? "s" : "") << ":";
-  for (const auto& k : unknown) msg << " " << (path_.empty() ? k : path_ + "." + k);
-  throw ConfigError(source_ + ": " + msg.str());
+  if (!msg.empty()) throw ConfigError(msg);
 }
 
 void CheckOption(bool ok, const std::string& key, const std::string& rule, double value) {
   if (ok) return;
   std::ostringstream msg;
-  msg << key << ": " << rule << ", got " << value;
-  throw ConfigError(msg.str());
+  msg << rule << ", got " << value;
+  throw ConfigError(key, msg.str());
 }
 
 }  // namespace cslam

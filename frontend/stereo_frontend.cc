@@ -13,17 +13,10 @@
 namespace cslam {
 
 void FrontendOptions::Check() const {
-  auto nested = [](const char* section, auto&& check) {
-    try {
-      check();
-    } catch (const ConfigError& e) {
-      throw ConfigError(std::string(section) + "." + e.what());
-    }
-  };
-  nested("detector", [&] { detector.Check(); });
-  nested("tracker", [&] { tracker.Check(); });
-  nested("stereo", [&] { stereo.Check(); });
-  nested("covariance", [&] { covariance.Check(); });
+  CheckSection("detector", [&] { detector.Check(); });
+  CheckSection("tracker", [&] { tracker.Check(); });
+  CheckSection("stereo", [&] { stereo.Check(); });
+  CheckSection("covariance", [&] { covariance.Check(); });
   CheckOption(reinit_below_tracks >= 0, "reinit_below_tracks", "must be >= 0", reinit_below_tracks);
 }
 
@@ -32,15 +25,10 @@ void FrontendOptions::Load(OptionsReader& reader) {
   reader.Read("predict_flow", &predict_flow);
   reader.Read("use_disparity_prior", &use_disparity_prior);
   reader.Read("reinit_below_tracks", &reinit_below_tracks);
-  auto load = [&](const char* key, auto& options) {
-    OptionsReader section = reader.Section(key);
-    options.Load(section);
-    section.Finish();
-  };
-  load("detector", detector);
-  load("tracker", tracker);
-  load("stereo", stereo);
-  load("covariance", covariance);
+  reader.ReadSection("detector", &detector);
+  reader.ReadSection("tracker", &tracker);
+  reader.ReadSection("stereo", &stereo);
+  reader.ReadSection("covariance", &covariance);
 }
 
 namespace {

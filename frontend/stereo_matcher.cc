@@ -34,7 +34,7 @@ void StereoMatcherOptions::Check() const {
   CheckOption(std::isfinite(disparity_offset_px) && std::abs(disparity_offset_px) < 5,
               "disparity_offset_px", "must be finite and within ±5 px", disparity_offset_px);
   if (subpixel != "lk" && subpixel != "parabola")
-    throw ConfigError("subpixel: must be \"lk\" or \"parabola\", got \"" + subpixel + "\"");
+    throw ConfigError("subpixel", "must be \"lk\" or \"parabola\", got \"" + subpixel + "\"");
 }
 
 void StereoMatcherOptions::Load(OptionsReader& reader) {

@@ -7,7 +7,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = cslam::fuzz::WriteInput(data, size, "config.yaml");
   try {
-    const cslam::PipelineOptions o = cslam::LoadPipelineOptions("outdoor", path);
+    const cslam::PipelineOptions o = cslam::LoadPipelineOptions(cslam::Preset::kOutdoor, path);
     o.ToYaml();
   } catch (const cslam::Error&) {
   }

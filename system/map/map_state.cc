@@ -11,27 +11,27 @@
 namespace cslam {
 
 void MapStateOptions::Check() const {
-  CheckOption(association_overlap > 0 && association_overlap <= 1, "map.association_overlap",
+  CheckOption(association_overlap > 0 && association_overlap <= 1, "association_overlap",
               "must be in (0, 1]", association_overlap);
-  CheckOption(min_shared_for_alignment >= 3, "map.min_shared_for_alignment",
+  CheckOption(min_shared_for_alignment >= 3, "min_shared_for_alignment",
               "must be at least 3 (a rigid alignment needs 3 points)", min_shared_for_alignment);
-  CheckOption(known_overlap > 0 && known_overlap <= 1, "map.known_overlap", "must be in (0, 1]",
+  CheckOption(known_overlap > 0 && known_overlap <= 1, "known_overlap", "must be in (0, 1]",
               known_overlap);
-  CheckOption(containment_overlap > 0 && containment_overlap <= 1, "map.containment_overlap",
+  CheckOption(containment_overlap > 0 && containment_overlap <= 1, "containment_overlap",
               "must be in (0, 1]", containment_overlap);
-  CheckOption(motion_min_frames >= 2, "map.motion_min_frames",
+  CheckOption(motion_min_frames >= 2, "motion_min_frames",
               "must be at least 2 (one frame cannot show a motion)", motion_min_frames);
-  CheckOption(motion_tolerance > 0, "map.motion_tolerance",
+  CheckOption(motion_tolerance > 0, "motion_tolerance",
               "must be positive (RMS misplacement / mean range to the camera)", motion_tolerance);
-  CheckOption(min_new_cluster_landmarks >= 1, "map.min_new_cluster_landmarks",
+  CheckOption(min_new_cluster_landmarks >= 1, "min_new_cluster_landmarks",
               "must be at least 1", min_new_cluster_landmarks);
-  CheckOption(report_min_landmarks >= 1, "map.report_min_landmarks", "must be at least 1",
+  CheckOption(report_min_landmarks >= 1, "report_min_landmarks", "must be at least 1",
               report_min_landmarks);
-  CheckOption(report_min_frames >= 1, "map.report_min_frames", "must be at least 1",
+  CheckOption(report_min_frames >= 1, "report_min_frames", "must be at least 1",
               report_min_frames);
-  CheckOption(retire_after_frames >= 0, "map.retire_after_frames", "must be >= 0 (0: never)",
+  CheckOption(retire_after_frames >= 0, "retire_after_frames", "must be >= 0 (0: never)",
               retire_after_frames);
-  CheckOption(refine_camera_from >= 0, "map.refine_camera_from", "must be >= 0 (0: off)",
+  CheckOption(refine_camera_from >= 0, "refine_camera_from", "must be >= 0 (0: off)",
               refine_camera_from);
 }
 
@@ -50,7 +50,6 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("report_min_landmarks", &report_min_landmarks);
   r.Read("report_min_frames", &report_min_frames);
   r.Read("retire_after_frames", &retire_after_frames);
-  r.Finish();
 }
 
 MapState::MapState(MapStateOptions options) : options_(options) { options_.Check(); }

@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "system/pipeline/run_input.h"
+
 namespace cslam {
 
 /// A configuration file's name and text.
@@ -16,6 +18,6 @@ struct BuiltinConfig {
 
 /// The recommended configuration for `input_kind` (RunInput::kind); nullopt where the
 /// built-in defaults are the recommendation (synthetic sequences).
-std::optional<BuiltinConfig> BuiltinConfigFor(const std::string& input_kind);
+std::optional<BuiltinConfig> BuiltinConfigFor(InputKind input_kind);
 
 }  // namespace cslam

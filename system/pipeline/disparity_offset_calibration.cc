@@ -16,25 +16,21 @@
 namespace cslam {
 
 void CalibrationOptions::Check() const {
-  CheckOption(disparity_offset_frames >= 3, "calibration.disparity_offset_frames",
+  CheckOption(disparity_offset_frames >= 3, "disparity_offset_frames",
               "must be >= 3 frames", disparity_offset_frames);
   CheckOption(disparity_offset_min_sigmas >= 0 && std::isfinite(disparity_offset_min_sigmas),
-              "calibration.disparity_offset_min_sigmas", "must be finite and >= 0",
+              "disparity_offset_min_sigmas", "must be finite and >= 0",
               disparity_offset_min_sigmas);
   CheckOption(disparity_offset_min_px >= 0 && std::isfinite(disparity_offset_min_px),
-              "calibration.disparity_offset_min_px", "must be finite and >= 0 px",
+              "disparity_offset_min_px", "must be finite and >= 0 px",
               disparity_offset_min_px);
   CheckOption(disparity_offset_max_yaw_rate > 0 && !std::isnan(disparity_offset_max_yaw_rate),
-              "calibration.disparity_offset_max_yaw_rate",
+              "disparity_offset_max_yaw_rate",
               "must be > 0 rad/s (.inf turns the check off)", disparity_offset_max_yaw_rate);
   CheckOption(disparity_offset_yaw_span_s > 0 && std::isfinite(disparity_offset_yaw_span_s),
-              "calibration.disparity_offset_yaw_span_s", "must be finite and > 0 s",
+              "disparity_offset_yaw_span_s", "must be finite and > 0 s",
               disparity_offset_yaw_span_s);
-  try {
-    disparity_offset.Check();
-  } catch (const ConfigError& e) {
-    throw ConfigError(std::string("calibration.disparity_offset.") + e.what());
-  }
+  CheckSection("disparity_offset", [&] { disparity_offset.Check(); });
 }
 
 void CalibrationOptions::Load(OptionsReader& r) {
@@ -44,10 +40,7 @@ void CalibrationOptions::Load(OptionsReader& r) {
   r.Read("disparity_offset_min_px", &disparity_offset_min_px);
   r.Read("disparity_offset_max_yaw_rate", &disparity_offset_max_yaw_rate);
   r.Read("disparity_offset_yaw_span_s", &disparity_offset_yaw_span_s);
-  auto section = r.Section("disparity_offset");
-  disparity_offset.Load(section);
-  section.Finish();
-  r.Finish();
+  r.ReadSection("disparity_offset", &disparity_offset);
 }
 
 double PeakYawRate(const std::vector<Pose>& world_from_cam, FrameRange range,

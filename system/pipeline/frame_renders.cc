@@ -86,7 +86,7 @@ FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
       dense_(options.dense_snapshots && input.has_images()),
       render_dir_((std::filesystem::path(out_dir) / "render").string()) {
   if (!out_dir.empty() && options.overlays_every > 0 && !input.has_images())
-    GetLogger("system")->info("overlays need input images: none for {} input", input.kind);
+    GetLogger("system")->info("overlays need input images: none for {} input", NameOf(kInputKindNames, input.kind));
   if (!enabled() || !threaded) return;
   queue_ = std::make_unique<BoundedQueue<Job>>(2);
   writer_ = std::thread([this, writer_nice, reservation] {

@@ -84,8 +84,8 @@ class BackendStage {
       : camera_(input.camera), options_(options),
         backend_(backend ? backend : BackendFunction(RunBackend)), map_(options.map),
         renders_(input, options.output, options.out_dir,
-                 !(options.mode == "online" && options.online.sequential),
-                 options.mode == "online" ? options.online.background_nice : 0, reservation),
+                 !(options.mode == RunMode::kOnline && options.online.sequential),
+                 options.mode == RunMode::kOnline ? options.online.background_nice : 0, reservation),
         reservation_(reservation) {}
 
   /// `given` (may be null): the prior of a warm-started batch call (built from another map).
@@ -103,7 +103,7 @@ class BackendStage {
       // Online ClusterSLAM windows start from what the map knows (the map is ours: this
       // thread integrates every window).
       std::optional<WindowPrior> own;
-      if (!given && options_.mode == "online" && options_.method == "clusterslam" &&
+      if (!given && options_.mode == RunMode::kOnline && options_.method == Method::kClusterSlam &&
           options_.backend.window_prior.enabled)
         own = WindowPriorFromMap(map_, window_table, range);
       stats.prior_ms = timer.ElapsedMs();
@@ -274,7 +274,7 @@ bool StopRequested(const std::atomic<bool>* stop) { return stop && stop->load();
 // not when the ground truth labels the frontend's landmarks from every observation.
 bool MayForget(const RunInput& input, const OnlineOptions& o) {
   if (!o.forget_observations) return false;
-  if (input.kind == "synthetic_images" || (input.kind == "kitti_raw" && !input.gt_boxes.empty())) {
+  if (input.kind == InputKind::kSyntheticImages || (input.kind == InputKind::kKittiRaw && !input.gt_boxes.empty())) {
     GetLogger("system")->info("observations kept for the whole run: the ground truth labels "
                               "landmarks from them");
     return false;
@@ -360,7 +360,7 @@ MapState OnlineMapOf(const RunInput& input, const TrackletTable& table, int fram
   Timer timer;
   const double cpu_start = ThreadCpuMs();
   PipelineOptions online = options;
-  online.mode = "online";
+  online.mode = RunMode::kOnline;
   online.out_dir.clear();  // the warm-up renders nothing
   BackendStage stage(input, online, backend_fn);
   WindowScheduler windows(online.online);
@@ -392,7 +392,7 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
       SegmentsBetweenBreaks(tracking.table(), out.frames_processed, options.online);
   std::optional<MapState> online_map;
   PipelineOptions warm_options = options;
-  if (options.batch.warm_start && options.method == "clusterslam") {
+  if (options.batch.warm_start && options.method == Method::kClusterSlam) {
     online_map = OnlineMapOf(input, tracking.table(), out.frames_processed, options, backend_fn);
     // The whole-sequence call from the online map's prior: batch.max_iterations rounds of
     // model assignment + estimation with batch.ba_iterations LM iterations each.
@@ -610,7 +610,7 @@ void LogStageTimes(const PipelineResult& out) {
 /// of each landmark. Only replayed synthetic tracklets carry it (a frontend's landmarks have
 /// no object id).
 BackendFunction TrueLabelsBackend(const RunInput& input) {
-  CheckMethodFitsInput("true-labels", input);
+  CheckMethodFitsInput(Method::kTrueLabels, input);
   const std::vector<int> labels = input.synthetic->landmark_object;
   return [labels](const TrackletTable& table, const StereoCamera& camera, FrameRange range,
                   const PipelineOptions& options, const WindowPrior*) {
@@ -623,26 +623,26 @@ BackendFunction TrueLabelsBackend(const RunInput& input) {
 
 }  // namespace
 
-void CheckMethodFitsInput(const std::string& method, const RunInput& input) {
-  if (method != "true-labels" || (input.synthetic && !input.has_images())) return;
+void CheckMethodFitsInput(Method method, const RunInput& input) {
+  if (method != Method::kTrueLabels || (input.synthetic && !input.has_images())) return;
   throw ConfigError("method true-labels: needs a synthetic sequence replayed without images "
                     "(its landmarks carry their object ids); " + input.path + " is " +
-                    (input.kind == "synthetic_images" ? "a synthetic sequence with images "
+                    (input.kind == InputKind::kSyntheticImages ? "a synthetic sequence with images "
                                                         "(run it with input.use_images: false)"
-                                                      : "a " + input.kind + " sequence"));
+                                                      : "a " + NameOf(kInputKindNames, input.kind) + " sequence"));
 }
 
 BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera, FrameRange range,
                          const PipelineOptions& options, const WindowPrior* prior) {
-  if (options.method == "clusterslam")
+  if (options.method == Method::kClusterSlam)
     return RunClusterSlamWindow(table, camera, range, options.backend, prior);
   // The baselines get the same covariance floor as ClusterSLAM (it floors inside).
   const std::optional<TrackletTable> floored =
       FloorPixelCovariances(table, range, options.backend.min_pixel_sigma);
   const TrackletTable& t = floored ? *floored : table;
-  if (options.method == "full-ba")
+  if (options.method == Method::kFullBa)
     return RunFullBa(t, camera, range, options.backend.Effective().motion);
-  if (options.method == "true-labels")  // RunPipeline binds the labels (TrueLabelsBackend)
+  if (options.method == Method::kTrueLabels)  // RunPipeline binds the labels (TrueLabelsBackend)
     throw ConfigError("method true-labels: the labels come with the input; run it through RunPipeline");
   return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
 }
@@ -656,7 +656,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   BundleAdjustmentOptions& ba = options.backend.motion.bundle_adjustment;
   // Threaded online runs keep a CPU for each window; its helpers run on the others. Shared,
   // since the pool (and its hook) lives in the options.
-  const bool threaded = options.mode != "batch" && !options.online.sequential;
+  const bool threaded = options.mode != RunMode::kBatch && !options.online.sequential;
   const auto reservation =
       std::make_shared<CoreReservation>(threaded && options.online.reserve_core);
   if (options.backend_threads > 1 && !ba.runner)
@@ -664,7 +664,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
                                              [reservation] { reservation->JoinBackground(); });
   // The self-calibration wraps the backend call (system/pipeline/disparity_offset_calibration.h).
   const BackendFunction chosen =
-      options.method == "true-labels" ? TrueLabelsBackend(input) : backend;
+      options.method == Method::kTrueLabels ? TrueLabelsBackend(input) : backend;
   DisparityOffsetCalibrator calibrator(options.calibration, chosen ? chosen : BackendFunction(RunBackend),
                                        input.timestamps);
   const BackendFunction calibrated = [&calibrator](const TrackletTable& t, const StereoCamera& c,
@@ -673,7 +673,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
     return calibrator(t, c, r, o, prior);
   };
   const BackendFunction& call = options.calibration.estimate_disparity_offset ? calibrated : chosen;
-  if (options.mode == "batch") {
+  if (options.mode == RunMode::kBatch) {
     out = RunBatch(input, options, stop, progress, call);
   } else if (options.online.sequential) {
     out = RunOnlineSequential(input, options, stop, progress, call);

@@ -88,7 +88,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& options
 
 /// Throws ConfigError when `method` cannot run on `input`: "true-labels" needs the
 /// generator's landmark objects, which only replayed synthetic tracklets carry.
-void CheckMethodFitsInput(const std::string& method, const RunInput& input);
+void CheckMethodFitsInput(Method method, const RunInput& input);
 
 /// The backend method named in options over `range` of `table` (no threads of its own).
 /// ClusterSLAM starts from `prior` when it is usable (RunClusterSlamWindow); the baselines

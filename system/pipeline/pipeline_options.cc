@@ -1,22 +1,20 @@
 #include "system/pipeline/pipeline_options.h"
 
-#include <algorithm>
-
 #include "core/errors.h"
 #include "system/pipeline/builtin_configs.h"
 
 namespace cslam {
 
 void OnlineOptions::Check() const {
-  CheckOption(window_frames >= 5, "online.window_frames", "must be at least 5 frames", window_frames);
-  CheckOption(window_every >= 1 && window_every <= window_frames - 2, "online.window_every",
+  CheckOption(window_frames >= 5, "window_frames", "must be at least 5 frames", window_frames);
+  CheckOption(window_every >= 1 && window_every <= window_frames - 2, "window_every",
               "must be in [1, window_frames - 2] so consecutive windows share frames", window_every);
-  CheckOption(frame_queue >= 1, "online.frame_queue", "must be >= 1", frame_queue);
-  CheckOption(window_queue >= 1, "online.window_queue", "must be >= 1", window_queue);
-  CheckOption(background_nice >= 0 && background_nice <= 19, "online.background_nice",
+  CheckOption(frame_queue >= 1, "frame_queue", "must be >= 1", frame_queue);
+  CheckOption(window_queue >= 1, "window_queue", "must be >= 1", window_queue);
+  CheckOption(background_nice >= 0 && background_nice <= 19, "background_nice",
               "must be in [0, 19] (a nice increment; threads can only lower their priority)",
               background_nice);
-  CheckOption(min_shared_landmarks >= 1, "online.min_shared_landmarks", "must be >= 1",
+  CheckOption(min_shared_landmarks >= 1, "min_shared_landmarks", "must be >= 1",
               min_shared_landmarks);
 }
 
@@ -31,12 +29,11 @@ void OnlineOptions::Load(OptionsReader& r) {
   r.Read("reserve_core", &reserve_core);
   r.Read("min_shared_landmarks", &min_shared_landmarks);
   r.Read("forget_observations", &forget_observations);
-  r.Finish();
 }
 
 void BatchOptions::Check() const {
-  CheckOption(max_iterations >= 1, "batch.max_iterations", "must be >= 1", max_iterations);
-  CheckOption(ba_iterations >= 1, "batch.ba_iterations", "must be >= 1", ba_iterations);
+  CheckOption(max_iterations >= 1, "max_iterations", "must be >= 1", max_iterations);
+  CheckOption(ba_iterations >= 1, "ba_iterations", "must be >= 1", ba_iterations);
 }
 
 void BatchOptions::Load(OptionsReader& r) {
@@ -44,12 +41,11 @@ void BatchOptions::Load(OptionsReader& r) {
   r.Read("max_iterations", &max_iterations);
   r.Read("ba_iterations", &ba_iterations);
   r.Read("native_sparse_solver", &native_sparse_solver);
-  r.Finish();
 }
 
 void OutputOptions::Check() const {
-  CheckOption(snapshots_every >= 0, "output.snapshots_every", "must be >= 0 (0 = off)", snapshots_every);
-  CheckOption(overlays_every >= 0, "output.overlays_every", "must be >= 0 (0 = off)", overlays_every);
+  CheckOption(snapshots_every >= 0, "snapshots_every", "must be >= 0 (0 = off)", snapshots_every);
+  CheckOption(overlays_every >= 0, "overlays_every", "must be >= 0 (0 = off)", overlays_every);
 }
 
 void OutputOptions::Load(OptionsReader& r) {
@@ -57,114 +53,85 @@ void OutputOptions::Load(OptionsReader& r) {
   r.Read("overlays_every", &overlays_every);
   r.Read("dense_snapshots", &dense_snapshots);
   r.Read("trajectory_plot", &trajectory_plot);
-  r.Finish();
 }
-
-namespace {
-void CheckMember(const std::string& key, const std::string& value,
-                 std::initializer_list<const char*> allowed) {
-  std::string list;
-  for (const char* a : allowed) {
-    if (value == a) return;
-    list += std::string(list.empty() ? "" : ", ") + a;
-  }
-  throw ConfigError(key + ": must be one of " + list + ", got '" + value + "'");
-}
-}  // namespace
 
 void PipelineOptions::Check() const {
-  CheckMember("preset", preset, {"indoor", "outdoor"});
-  CheckMember("method", method, {"clusterslam", "full-ba", "pdcs", "true-labels"});
-  CheckMember("ablation", ablation, {"none", "no-u", "no-i", "p2p-icp"});
-  CheckMember("mode", mode, {"online", "batch"});
   CheckOption(backend_threads >= 1, "backend_threads", "must be >= 1", backend_threads);
-  input.Check();
-  frontend.Check();
-  backend.Check();
-  online.Check();
-  batch.Check();
-  map.Check();
-  sanity.Check();
-  calibration.Check();
-  output.Check();
+  CheckSection("input", [&] { input.Check(); });
+  CheckSection("frontend", [&] { frontend.Check(); });
+  CheckSection("backend", [&] { backend.Check(); });
+  CheckSection("online", [&] { online.Check(); });
+  CheckSection("batch", [&] { batch.Check(); });
+  CheckSection("map", [&] { map.Check(); });
+  CheckSection("sanity", [&] { sanity.Check(); });
+  CheckSection("calibration", [&] { calibration.Check(); });
+  CheckSection("output", [&] { output.Check(); });
 }
 
-void PipelineOptions::ApplyPreset(const std::string& preset_name) {
-  CheckMember("preset", preset_name, {"indoor", "outdoor"});
-  preset = preset_name;
-  backend = preset == "indoor" ? ClusterSlamOptions::Indoor() : ClusterSlamOptions::Outdoor();
+void PipelineOptions::ApplyPreset(Preset preset_value) {
+  preset = preset_value;
+  backend = preset == Preset::kIndoor ? ClusterSlamOptions::Indoor() : ClusterSlamOptions::Outdoor();
   ApplyAblation(ablation);
 }
 
-void PipelineOptions::ApplyAblation(const std::string& ablation_name) {
-  CheckMember("ablation", ablation_name, {"none", "no-u", "no-i", "p2p-icp"});
-  ablation = ablation_name;
-  std::string yaml_name = ablation;  // the backend spells them with underscores
-  std::replace(yaml_name.begin(), yaml_name.end(), '-', '_');
-  backend.ablation = ParseAblation(yaml_name, "ablation");
+void PipelineOptions::ApplyAblation(ClusterSlamAblation ablation_value) {
+  ablation = ablation_value;
+  backend.ablation = ablation;
 }
 
 void PipelineOptions::Load(OptionsReader& r) {
-  std::string p = preset;
-  r.Read("preset", &p);
+  Preset p = preset;
+  r.Read("preset", kPresetNames, &p);
   if (!r.dumping() && p != preset) ApplyPreset(p);
-  r.Read("method", &method);
-  std::string a = ablation;
-  r.Read("ablation", &a);
+  r.Read("method", kMethodNames, &method);
+  ClusterSlamAblation a = ablation;
+  r.Read("ablation", kAblationNames, &a);
   if (!r.dumping() && a != ablation) ApplyAblation(a);
-  r.Read("mode", &mode);
+  r.Read("mode", kRunModeNames, &mode);
   r.Read("backend_threads", &backend_threads);
-  auto in = r.Section("input");
-  input.Load(in);
-  auto fe = r.Section("frontend");
-  frontend.Load(fe);
-  auto be = r.Section("backend");
-  backend.Load(be);
-  auto on = r.Section("online");
-  online.Load(on);
-  auto ba = r.Section("batch");
-  batch.Load(ba);
-  auto mp = r.Section("map");
-  map.Load(mp);
-  auto sa = r.Section("sanity");
-  sanity.Load(sa);
-  auto ca = r.Section("calibration");
-  calibration.Load(ca);
-  auto outp = r.Section("output");
-  output.Load(outp);
-  r.Finish();
+  r.ReadSection("input", &input);
+  r.ReadSection("frontend", &frontend);
+  r.ReadSection("backend", &backend);
+  r.ReadSection("online", &online);
+  r.ReadSection("batch", &batch);
+  r.ReadSection("map", &map);
+  r.ReadSection("sanity", &sanity);
+  r.ReadSection("calibration", &calibration);
+  r.ReadSection("output", &output);
 }
 
 std::string PipelineOptions::ToYaml() const {
   auto dump = OptionsReader::ForDump();
   PipelineOptions copy = *this;  // Load in dump mode only reads the fields out
-  copy.Load(dump);
+  dump.LoadInto(&copy);
   return dump.Dump();
 }
 
-PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file,
-                                    const std::string& input_kind) {
+PipelineOptions LoadPipelineOptions(Preset preset, const std::string& config_file,
+                                    std::optional<InputKind> input_kind) {
   PipelineOptions o;
   o.ApplyPreset(preset);
   const std::optional<BuiltinConfig> builtin =
-      config_file.empty() ? BuiltinConfigFor(input_kind) : std::nullopt;
+      config_file.empty() && input_kind ? BuiltinConfigFor(*input_kind) : std::nullopt;
   if (builtin) {
     YAML::Node node = YAML::Load(builtin->yaml);
     node.remove("output");  // renders stay as the defaults say
     OptionsReader r(node, "built-in " + builtin->name);
-    o.Load(r);
-    o.source = "built-in " + builtin->name + " (recommended for " + input_kind +
+    r.LoadInto(&o);
+    o.source = "built-in " + builtin->name + " (recommended for " + NameOf(kInputKindNames, *input_kind) +
                " input; its output section not applied)";
   }
   if (!config_file.empty()) {
     o.source = config_file;
     auto r = OptionsReader::FromFile(config_file);
-    o.Load(r);
-    // A value out of range came from the file: name it (Check() only knows the key).
+    r.LoadInto(&o);
+    // A value out of range came from the file: name it and the line (Check() knows the key).
     try {
       o.Check();
     } catch (const ConfigError& e) {
-      throw ConfigError(config_file + ": " + e.what());
+      const int line = e.key().empty() ? 0 : r.LineOf(e.key());
+      throw ConfigError(config_file + (line > 0 ? ":" + std::to_string(line) : "") + ": " +
+                        e.what());
     }
   }
   o.Check();

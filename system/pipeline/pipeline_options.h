@@ -4,6 +4,7 @@
 //   calibration{}, output{}.
 // Defaults come from the preset (indoor / outdoor backend parameters), then the YAML file,
 // then command-line flags; the effective tree is saved beside the outputs (config.yaml).
+#include <optional>
 #include <string>
 
 #include "backend/clusterslam.h"
@@ -12,6 +13,7 @@
 #include "system/map/map_state.h"
 #include "system/pipeline/disparity_offset_calibration.h"
 #include "system/pipeline/estimate_sanity.h"
+#include "system/pipeline/run_choices.h"
 #include "system/pipeline/run_input.h"
 
 namespace cslam {
@@ -92,10 +94,11 @@ struct OutputOptions {
 
 /// All options of one run; see the file comment.
 struct PipelineOptions {
-  std::string preset = "outdoor";      ///< indoor | outdoor: backend parameters (ε, chunks)
-  std::string method = "clusterslam";  ///< clusterslam | full-ba | pdcs
-  std::string ablation = "none";       ///< none | no-u | no-i | p2p-icp
-  std::string mode = "online";         ///< online | batch
+  Preset preset = Preset::kOutdoor;            ///< backend parameters (ε, chunks)
+  Method method = Method::kClusterSlam;
+  /// Copied into backend.ablation whenever it is set (ApplyAblation).
+  ClusterSlamAblation ablation = ClusterSlamAblation::kNone;
+  RunMode mode = RunMode::kOnline;
   /// Threads for the backend's independent solves (each window's moving clusters and static
   /// world side by side; system/runtime/worker_pool.h); 1: one after another. The estimate is the
   /// same for any value. [ours, measured in docs/benchmarks.md "Window speed"]
@@ -116,20 +119,24 @@ struct PipelineOptions {
   /// run.log and the first line of OUT/config.yaml. Not an option.
   std::string source = "built-in defaults";
 
+  /// Messages name keys as the YAML nests them ("backend.hac.epsilon").
   void Check() const;
-  /// Reads a YAML tree; `preset` is read first so the backend section overrides its values.
+  /// Reads a YAML tree (through OptionsReader::LoadInto, which rejects unknown keys); `preset`
+  /// and `ablation` are applied as soon as read, so the backend section overrides them.
   void Load(OptionsReader& r);
   /// The effective configuration as YAML.
   std::string ToYaml() const;
-  /// Applies `preset` (resets the backend options to that preset's values) and `ablation`.
-  void ApplyPreset(const std::string& preset_name);
-  void ApplyAblation(const std::string& ablation_name);
+  /// Sets `preset` and resets the backend options to its values, then re-applies `ablation`.
+  void ApplyPreset(Preset preset_value);
+  /// Sets `ablation` and backend.ablation.
+  void ApplyAblation(ClusterSlamAblation ablation_value);
 };
 
 /// Defaults for a preset, optionally overridden by a YAML file ("" = none).
 /// The preset's defaults, then `config_file` when given, else the recommended configuration
 /// of `input_kind` (system/pipeline/builtin_configs.h) when there is one.
-PipelineOptions LoadPipelineOptions(const std::string& preset, const std::string& config_file,
-                                    const std::string& input_kind = "");
+/// Errors in the file name it, the line and the key path ("config.yaml:3: backend.hac: …").
+PipelineOptions LoadPipelineOptions(Preset preset, const std::string& config_file,
+                                    std::optional<InputKind> input_kind = std::nullopt);
 
 }  // namespace cslam

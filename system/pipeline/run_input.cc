@@ -14,14 +14,13 @@ namespace cslam {
 namespace fs = std::filesystem;
 
 void InputOptions::Check() const {
-  CheckOption(max_frames >= 0, "input.max_frames", "must be >= 0 (0 = all frames)", max_frames);
+  CheckOption(max_frames >= 0, "max_frames", "must be >= 0 (0 = all frames)", max_frames);
 }
 
 void InputOptions::Load(OptionsReader& r) {
   r.Read("color", &color);
   r.Read("max_frames", &max_frames);
   r.Read("use_images", &use_images);
-  r.Finish();
 }
 
 namespace {
@@ -85,7 +84,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
     in.timestamps = seq.timestamps;
     in.gt_world_from_cam = seq.world_from_cam;
     if (HasSyntheticImages(path) && options.use_images) {
-      in.kind = "synthetic_images";
+      in.kind = InputKind::kSyntheticImages;
       const std::string images_dir = SyntheticImagesDir(path);
       std::unique_ptr<StereoSource> src = std::make_unique<KittiOdometrySource>(images_dir);
       if (src->size() < static_cast<int>(in.timestamps.size()))
@@ -97,7 +96,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
       in.camera = src->camera();
       in.images = std::move(src);
     } else {
-      in.kind = "synthetic";
+      in.kind = InputKind::kSynthetic;
       in.observations = seq.observations;
     }
     in.synthetic = std::move(seq);
@@ -108,7 +107,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
     src = std::make_unique<TruncatedSource>(std::move(src), options.max_frames);
   if (src->size() == 0) throw InputError(path, "contains no stereo frames");
   in.name = src->name();
-  in.kind = src->kind();
+  in.kind = ParseEnum(kInputKindNames, src->kind(), "input kind");
   in.camera = src->camera();
   in.timestamps = src->timestamps();
   in.gt_world_from_cam = src->GroundTruth();
@@ -119,12 +118,12 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
 }
 
 RunInput SyntheticRunInput(SyntheticSequence sequence, int max_frames) {
-  CheckOption(max_frames >= 0, "input.max_frames", "must be >= 0 (0 = all frames)", max_frames);
+  CheckOption(max_frames >= 0, "max_frames", "must be >= 0 (0 = all frames)", max_frames);
   TruncateSynthetic(&sequence, max_frames);
   RunInput in;
   in.path = "(generated)";
   in.name = sequence.name;
-  in.kind = "synthetic";
+  in.kind = InputKind::kSynthetic;
   in.camera = sequence.camera;
   in.timestamps = sequence.timestamps;
   in.gt_world_from_cam = sequence.world_from_cam;

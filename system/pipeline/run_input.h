@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
 #include "core/tracklet_table.h"
@@ -15,11 +16,26 @@
 
 namespace cslam {
 
+/// What `cslam run` was pointed at; picks the recommended configuration and the metrics.
+enum class InputKind {
+  kKittiRaw,         ///< a KITTI raw drive (tracklet boxes label the moving landmarks)
+  kKittiOdometry,    ///< a KITTI odometry sequence
+  kSynthetic,        ///< a synthetic sequence replayed as tracklets (no images)
+  kSyntheticImages,  ///< a synthetic sequence with rendered stereo images
+};
+/// The kinds' names in logs, messages and run outputs (StereoSource::kind() uses the same).
+inline constexpr EnumName<InputKind> kInputKindNames[] = {
+    {InputKind::kKittiRaw, "kitti_raw"},
+    {InputKind::kKittiOdometry, "kitti_odometry"},
+    {InputKind::kSynthetic, "synthetic"},
+    {InputKind::kSyntheticImages, "synthetic_images"},
+};
+
 /// An opened input sequence; see the file comment.
 struct RunInput {
   std::string path;
   std::string name;   ///< sequence name for metrics.json
-  std::string kind;   ///< "kitti_raw", "kitti_odometry", "synthetic", "synthetic_images"
+  InputKind kind = InputKind::kSynthetic;
   StereoCamera camera;
   std::vector<double> timestamps;                     ///< seconds, per frame
   std::unique_ptr<StereoSource> images;               ///< null: observations are given

@@ -149,8 +149,7 @@ void SnapshotOptions::Load(OptionsReader& reader) {
   reader.Read("grid_step_m", &grid_step_m);
   reader.Read("grid_extent_m", &grid_extent_m);
   reader.Read("supersampling", &supersampling);
-  OptionsReader dense_reader = reader.Section("dense");
-  dense.Load(dense_reader);
+  reader.ReadSection("dense", &dense);
 }
 
 RenderView SnapshotView(const Pose& world_from_cam, const SnapshotOptions& o) {

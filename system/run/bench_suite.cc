@@ -74,10 +74,10 @@ RunInput GenerateBenchInput(const BenchSequence& sequence, int frames) {
 PipelineOptions BenchPipelineOptions(const std::string& preset, const BenchMethod& method,
                                      int chunk_length) {
   PipelineOptions o;
-  o.ApplyPreset(preset);
-  o.method = method.method;
-  o.ApplyAblation(method.ablation);
-  o.mode = "batch";
+  o.ApplyPreset(ParseEnum(kPresetNames, preset, "preset"));
+  o.method = ParseEnum(kMethodNames, method.method, "method");
+  o.ApplyAblation(ParseEnum(kAblationNames, method.ablation, "ablation"));
+  o.mode = RunMode::kBatch;
   o.output.trajectory_plot = false;
   if (chunk_length > 0) {
     o.backend.consensus.chunk_length = chunk_length;

@@ -113,10 +113,10 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
   // Replayed tracklets share the generator's landmark ids; a frontend's landmarks on rendered
   // images are labelled by the object-id image under their first keypoint.
   LandmarkTruth lm_truth;
-  if (input.kind == "synthetic") {
+  if (input.kind == InputKind::kSynthetic) {
     lm_truth.object = seq.landmark_object;
     lm_truth.in_object = seq.landmark_in_object;
-  } else if (input.kind == "synthetic_images") {
+  } else if (input.kind == InputKind::kSyntheticImages) {
     lm_truth = LabelLandmarksByIdImages(
         table, seq, [&](int frame) { return ReadObjectIdImage(input.path, frame); });
   } else {
@@ -282,8 +282,11 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   RunMetrics m;
   m.sequence = input.name;
   m.frames = result.frames_processed;
-  m.method = options.method + (options.ablation == "none" ? "" : "/" + options.ablation) + " (" +
-             options.mode + ")";
+  m.method = NameOf(kMethodNames, options.method) +
+             (options.ablation == ClusterSlamAblation::kNone
+                  ? ""
+                  : "/" + NameOf(kAblationNames, options.ablation)) +
+             " (" + NameOf(kRunModeNames, options.mode) + ")";
   if (input.gt_world_from_cam && result.frames_processed > 1) {
     const Trajectory gt =
         GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, result.frames_processed);
@@ -293,7 +296,7 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
     m.ground_truth = CheckGroundTruth(input, result);
   m.objects.reported = static_cast<int>(result.map.clusters().size());
   if (input.synthetic) SyntheticMetrics(input, result, &m);
-  if (input.kind == "kitti_raw") KittiRawObjectMetrics(input, result, &m);
+  if (input.kind == InputKind::kKittiRaw) KittiRawObjectMetrics(input, result, &m);
   if (m.objects.gt && *m.objects.gt > 0)
     m.objects.recall = static_cast<double>(m.objects.matched.value_or(0)) / *m.objects.gt;
   {

@@ -255,24 +255,54 @@ class CliConfig : public CliOdometryBadInput {
 
 TEST_F(CliConfig, UnknownKey) {
   const auto r = RunWithConfig("online:\n  window_frame: 20\n");
-  ExpectRejected(r, kExitConfigError, config().string() + ": unknown key");
-  EXPECT_THAT(r.err, HasSubstr("online.window_frame"));
+  ExpectRejected(r, kExitConfigError,
+                 config().string() + ":2: online.window_frame: unknown key (known: window_frames,");
+}
+
+TEST_F(CliConfig, MisspeltTopLevelKey) {
+  const auto r = RunWithConfig("mode: online\npresett: indoor\n");
+  ExpectRejected(r, kExitConfigError,
+                 config().string() + ":2: presett: unknown key (known: preset, method,");
+}
+
+// backend and frontend used to be loaded without the unknown-key check (exit 0).
+TEST_F(CliConfig, MisspeltKeyInTheBackendSection) {
+  const auto r = RunWithConfig("backend:\n  max_iteration: 3\n");
+  ExpectRejected(r, kExitConfigError,
+                 config().string() + ":2: backend.max_iteration: unknown key (known: distance,");
+  EXPECT_THAT(r.err, HasSubstr("max_iterations"));
+}
+
+TEST_F(CliConfig, MisspeltKeyInANestedSection) {
+  const auto r = RunWithConfig("frontend:\n  tracker:\n    bogus_key: 1\n");
+  ExpectRejected(r, kExitConfigError,
+                 config().string() + ":3: frontend.tracker.bogus_key: unknown key (known: window_px,");
 }
 
 TEST_F(CliConfig, WrongType) {
   const auto r = RunWithConfig("online:\n  window_frames: many\n");
-  ExpectRejected(r, kExitConfigError, config().string() + ": online.window_frames");
+  ExpectRejected(r, kExitConfigError, config().string() + ":2: online.window_frames");
   EXPECT_THAT(r.err, HasSubstr("many"));
 }
 
 TEST_F(CliConfig, OutOfRangeValue) {
   ExpectRejected(RunWithConfig("online:\n  window_frames: 2\n"), kExitConfigError,
-                 config().string() + ": online.window_frames: must be at least 5 frames, got 2");
+                 config().string() + ":2: online.window_frames: must be at least 5 frames, got 2");
+}
+
+TEST_F(CliConfig, OutOfRangeValueInANestedSection) {
+  ExpectRejected(RunWithConfig("backend:\n  hac:\n    max_dense_items: -1\n"), kExitConfigError,
+                 config().string() + ":3: backend.hac.max_dense_items: must be in [0, 16384]");
+}
+
+TEST_F(CliConfig, TheAblationIsSpeltAsOnTheCommandLine) {
+  ExpectRejected(RunWithConfig("ablation: no_u\n"), kExitConfigError,
+                 config().string() + ":1: ablation: must be one of none, no-u, no-i, p2p-icp, got 'no_u'");
 }
 
 TEST_F(CliConfig, NiceIncrementOutsideTheKernelsRange) {
   ExpectRejected(RunWithConfig("online:\n  background_nice: 20\n"), kExitConfigError,
-                 config().string() + ": online.background_nice: must be in [0, 19]");
+                 config().string() + ":2: online.background_nice: must be in [0, 19]");
 }
 
 TEST_F(CliConfig, KeyGivenTwice) {

@@ -376,8 +376,7 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   auto reader = OptionsReader::FromString(
       "coupling: fully_coupled\nrobust_kernel: none\nmax_iterations: 7\n", "t");
   BundleAdjustmentOptions o;
-  o.Load(reader);
-  reader.Finish();
+  reader.LoadInto(&o);
   EXPECT_EQ(o.coupling, BaCoupling::kFullyCoupled);
   EXPECT_EQ(o.robust_kernel, RobustKernel::kNone);
   EXPECT_EQ(o.max_iterations, 7);
@@ -389,8 +388,7 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   auto reader2 = OptionsReader::FromString(
       "sparse_solver: iterative_schur\nsparse_library: eigen\n", "t");
   BundleAdjustmentOptions o2;
-  o2.Load(reader2);
-  reader2.Finish();
+  reader2.LoadInto(&o2);
   EXPECT_EQ(o2.sparse_solver, SparseSolver::kIterativeSchur);
   EXPECT_EQ(o2.sparse_library, SparseLibrary::kEigen);
   o.num_threads = 0;
@@ -398,8 +396,7 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   auto reader3 = OptionsReader::FromString(
       "far_depth_baselines: 35\nfar_disparity_sigma_px: 5\n", "t");
   BundleAdjustmentOptions o3;
-  o3.Load(reader3);
-  reader3.Finish();
+  reader3.LoadInto(&o3);
   EXPECT_EQ(o3.far_depth_baselines, 35.0);
   EXPECT_EQ(o3.far_disparity_sigma_px, 5.0);
   EXPECT_NO_THROW(o3.Check());
@@ -411,8 +408,7 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   auto reader4 = OptionsReader::FromString(
       "motion_prior_sigma_m: 0.05\nmotion_prior_sigma_rad: 0.01\n", "t");
   BundleAdjustmentOptions o4;
-  o4.Load(reader4);
-  reader4.Finish();
+  reader4.LoadInto(&o4);
   EXPECT_EQ(o4.motion_prior_sigma_m, 0.05);
   EXPECT_EQ(o4.motion_prior_sigma_rad, 0.01);
   EXPECT_NO_THROW(o4.Check());

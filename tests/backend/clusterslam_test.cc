@@ -202,12 +202,11 @@ TEST(ClusterSlam, PresetsAndAblations) {
 
 TEST(ClusterSlam, OptionsLoadFromYaml) {
   OptionsReader r = OptionsReader::FromString(
-      "ablation: no_i\nmax_iterations: 3\nhac: {epsilon: 75}\n"
+      "ablation: no-i\nmax_iterations: 3\nhac: {epsilon: 75}\n"
       "consensus: {chunk_length: 120, min_cluster_size: 5}\ndistance: {alpha: 0.001}\n",
       "test.yaml");
   ClusterSlamOptions o;
-  o.Load(r);
-  r.Finish();
+  r.LoadInto(&o);
   EXPECT_EQ(o.ablation, ClusterSlamAblation::kNoImagePrior);
   EXPECT_EQ(o.max_iterations, 3);
   EXPECT_EQ(o.hac.epsilon, 75.0);
@@ -215,9 +214,29 @@ TEST(ClusterSlam, OptionsLoadFromYaml) {
   EXPECT_EQ(o.consensus.min_cluster_size, 5);
   EXPECT_EQ(o.distance.alpha, 0.001);
   OptionsReader bad = OptionsReader::FromString("ablation: w/o_u\n", "bad.yaml");
-  EXPECT_THROW(o.Load(bad), ConfigError);
+  EXPECT_THROW(bad.LoadInto(&o), ConfigError);
   OptionsReader typo = OptionsReader::FromString("hac: {epsilom: 3}\n", "typo.yaml");
-  EXPECT_THROW(o.Load(typo), ConfigError);
+  EXPECT_THROW(typo.LoadInto(&o), ConfigError);
+  OptionsReader unknown = OptionsReader::FromString("max_iteration: 3\n", "typo.yaml");
+  EXPECT_THROW(unknown.LoadInto(&o), ConfigError);
+}
+
+// The command line's spelling (`--ablation no-u`) is the only one; the underscore spelling the
+// backend section once had is an error listing the allowed words.
+TEST(ClusterSlam, AblationIsSpeltWithHyphens) {
+  ClusterSlamOptions o;
+  OptionsReader hyphen = OptionsReader::FromString("ablation: no-u\n", "t.yaml");
+  hyphen.LoadInto(&o);
+  EXPECT_EQ(o.ablation, ClusterSlamAblation::kNoUncertainty);
+  OptionsReader underscore = OptionsReader::FromString("ablation: no_u\n", "t.yaml");
+  try {
+    underscore.LoadInto(&o);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "t.yaml:1: ablation: must be one of none, no-u, no-i, p2p-icp, got 'no_u'");
+  }
+  for (const auto& row : kAblationNames)
+    EXPECT_EQ(ParseEnum(kAblationNames, NameOf(kAblationNames, row.value), "ablation"), row.value);
 }
 
 TEST(ClusterSlam, CheckRejectsBadValues) {

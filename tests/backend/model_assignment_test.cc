@@ -310,7 +310,7 @@ TEST(ModelAssignment, CheckNamesTheBadKey) {
     o.Check();
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("model_assignment.min_coverage"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("min_coverage"), std::string::npos);
   }
   o = ModelAssignmentOptions{};
   o.merge_ratio = 0.5;
@@ -321,7 +321,7 @@ TEST(ModelAssignment, CheckNamesTheBadKey) {
     o.Check();
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("model_assignment.max_reclusterings"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("max_reclusterings"), std::string::npos);
   }
   o = ModelAssignmentOptions{};
   o.moving_test.false_alarm = 0;

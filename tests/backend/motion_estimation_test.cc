@@ -251,8 +251,7 @@ TEST(EstimateMotions, OptionsLoadNestedSections) {
       "bundle_adjustment:\n  robust_kernel: dcs\n",
       "t");
   MotionEstimationOptions o;
-  o.Load(reader);
-  reader.Finish();
+  reader.LoadInto(&o);
   EXPECT_TRUE(o.point_to_point_icp);
   EXPECT_EQ(o.shape_init.max_mixture_components, 2);
   EXPECT_EQ(o.bundle_adjustment.robust_kernel, RobustKernel::kDcs);
@@ -267,7 +266,7 @@ TEST(EstimateMotions, OptionsLoadNestedSections) {
         << e.what();
   }
   auto bad = OptionsReader::FromString("shape_init:\n  max_mixture: 2\n", "t");
-  EXPECT_THROW(o.Load(bad), ConfigError);
+  EXPECT_THROW(bad.LoadInto(&o), ConfigError);
 }
 
 }  // namespace

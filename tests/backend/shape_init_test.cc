@@ -333,8 +333,7 @@ TEST(ShapeInit, OptionsCheckNamesTheField) {
   auto reader =
       OptionsReader::FromString("max_mixture_components: 2\nhuber_threshold_sigma: 4.5\n", "t");
   ShapeInitOptions loaded;
-  loaded.Load(reader);
-  reader.Finish();
+  reader.LoadInto(&loaded);
   EXPECT_EQ(loaded.max_mixture_components, 2);
   EXPECT_DOUBLE_EQ(loaded.huber_threshold_sigma, 4.5);
 }

@@ -72,8 +72,7 @@ TEST(GridDetectorOptions, LoadReadsEveryFieldAndCheckNamesTheBrokenOne) {
       "min_distance_px: 12.5\nborder_px: 24\n",
       "test");
   GridDetectorOptions o;
-  o.Load(reader);
-  EXPECT_NO_THROW(reader.Finish());
+  EXPECT_NO_THROW(reader.LoadInto(&o));
   EXPECT_EQ(o.target_count, 800);
   EXPECT_EQ(o.grid_cols, 12);
   EXPECT_EQ(o.grid_rows, 4);

@@ -262,8 +262,7 @@ TEST(FrontendOptions, LoadReadsNestedSectionsAndRejectsUnknownKeys) {
       "stereo: {max_disparity_px: 120}\ncovariance: {stereo_sigma_px: 0.4}\n",
       "test");
   FrontendOptions o;
-  o.Load(reader);
-  EXPECT_NO_THROW(reader.Finish());
+  EXPECT_NO_THROW(reader.LoadInto(&o));
   EXPECT_FALSE(o.confirm_new_tracks);
   EXPECT_FALSE(o.predict_flow);
   EXPECT_EQ(o.detector.target_count, 900);
@@ -274,7 +273,7 @@ TEST(FrontendOptions, LoadReadsNestedSectionsAndRejectsUnknownKeys) {
   OptionsReader typo = OptionsReader::FromString("tracker: {max_fb_eror_px: 0.8}\n", "test");
   FrontendOptions p;
   try {
-    p.Load(typo);
+    typo.LoadInto(&p);
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("tracker.max_fb_eror_px"), std::string::npos) << e.what();

@@ -17,9 +17,9 @@ TEST(Configs, EveryShippedConfigLoadsAndNamesItsPreset) {
     const std::string name = entry.path().stem().string();
     SCOPED_TRACE(name);
     PipelineOptions o;
-    ASSERT_NO_THROW(o = LoadPipelineOptions("outdoor", entry.path().string()));
-    EXPECT_EQ(o.preset, name.find("indoor") != std::string::npos ? "indoor" : "outdoor");
-    EXPECT_EQ(o.mode, "online");
+    ASSERT_NO_THROW(o = LoadPipelineOptions(Preset::kOutdoor, entry.path().string()));
+    EXPECT_EQ(o.preset, name.find("indoor") != std::string::npos ? Preset::kIndoor : Preset::kOutdoor);
+    EXPECT_EQ(o.mode, RunMode::kOnline);
   }
   EXPECT_GE(n, 4);
 }
@@ -28,11 +28,12 @@ TEST(Configs, EveryShippedConfigLoadsAndNamesItsPreset) {
 // (the same tree as loading the file, renders aside); a given file wins; synthetic input keeps
 // the built-in defaults.
 TEST(Configs, KittiInputsWithoutAConfigGetTheirShippedSettings) {
-  for (const std::string kind : {"kitti_raw", "kitti_odometry"}) {
+  for (const InputKind input_kind : {InputKind::kKittiRaw, InputKind::kKittiOdometry}) {
+    const std::string kind = NameOf(kInputKindNames, input_kind);
     SCOPED_TRACE(kind);
     const std::string file = std::string(CSLAM_CONFIGS_DIR) + "/" + kind + ".yaml";
-    PipelineOptions builtin = LoadPipelineOptions("outdoor", "", kind);
-    PipelineOptions loaded = LoadPipelineOptions("outdoor", file);
+    PipelineOptions builtin = LoadPipelineOptions(Preset::kOutdoor, "", input_kind);
+    PipelineOptions loaded = LoadPipelineOptions(Preset::kOutdoor, file);
     EXPECT_NE(builtin.source.find("configs/" + kind + ".yaml"), std::string::npos);
     EXPECT_EQ(builtin.backend.motion.bundle_adjustment.far_depth_baselines, 35);
     EXPECT_TRUE(builtin.calibration.estimate_disparity_offset);
@@ -43,9 +44,9 @@ TEST(Configs, KittiInputsWithoutAConfigGetTheirShippedSettings) {
     EXPECT_EQ(builtin.ToYaml(), loaded.ToYaml());
   }
   const PipelineOptions given =
-      LoadPipelineOptions("outdoor", std::string(CSLAM_CONFIGS_DIR) + "/synthetic_outdoor.yaml", "kitti_raw");
+      LoadPipelineOptions(Preset::kOutdoor, std::string(CSLAM_CONFIGS_DIR) + "/synthetic_outdoor.yaml", InputKind::kKittiRaw);
   EXPECT_EQ(given.backend.motion.bundle_adjustment.far_depth_baselines, 0);
-  const PipelineOptions synthetic = LoadPipelineOptions("outdoor", "", "synthetic");
+  const PipelineOptions synthetic = LoadPipelineOptions(Preset::kOutdoor, "", InputKind::kSynthetic);
   EXPECT_EQ(synthetic.source, "built-in defaults");
   EXPECT_FALSE(synthetic.calibration.estimate_disparity_offset);
 }

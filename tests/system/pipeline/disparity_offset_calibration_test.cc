@@ -30,7 +30,7 @@ RunInput ShiftedStreet(double shift, double yaw_per_frame = 0.001) {
       testing::MakeScene(testing::SyntheticCamera(true), {body}, 36, cam, 0.3, 0.3, 8);
   RunInput in;
   in.name = "street";
-  in.kind = "synthetic";
+  in.kind = InputKind::kSynthetic;
   in.camera = scene.camera;
   for (int f = 0; f < 36; ++f) in.timestamps.push_back(0.1 * f);
   in.gt_world_from_cam = scene.world_from_cam;
@@ -40,8 +40,8 @@ RunInput ShiftedStreet(double shift, double yaw_per_frame = 0.001) {
 
 PipelineOptions CalibratingOnline() {
   PipelineOptions o;
-  o.ApplyPreset("outdoor");
-  o.mode = "online";
+  o.ApplyPreset(Preset::kOutdoor);
+  o.mode = RunMode::kOnline;
   o.online.sequential = true;
   o.backend.max_iterations = 3;
   o.calibration.estimate_disparity_offset = true;
@@ -88,7 +88,7 @@ TEST(DisparityOffsetCalibrator, EstimatesAnInjectedOffsetOnceAndCorrectsEveryBac
 TEST(DisparityOffsetCalibrator, LeavesTheObservationsAloneWhenThereIsNoOffset) {
   const RunInput in = ShiftedStreet(0.0);
   PipelineOptions o = CalibratingOnline();
-  o.mode = "batch";
+  o.mode = RunMode::kBatch;
   const PipelineResult r = RunPipeline(in, o);
   ASSERT_TRUE(r.disparity_offset.has_value());
   const DisparityOffsetCalibration& cal = *r.disparity_offset;
@@ -185,16 +185,16 @@ TEST(CalibrationOptions, CheckNamesTheBadKey) {
     return CheckError(o);
   };
   EXPECT_NE(with([](auto& o) { o.disparity_offset_frames = 2; })
-                .find("calibration.disparity_offset_frames"),
+                .find("disparity_offset_frames"),
             std::string::npos);
   EXPECT_NE(with([](auto& o) { o.disparity_offset_max_yaw_rate = 0; })
-                .find("calibration.disparity_offset_max_yaw_rate"),
+                .find("disparity_offset_max_yaw_rate"),
             std::string::npos);
   EXPECT_NE(with([](auto& o) { o.disparity_offset_yaw_span_s = 0; })
-                .find("calibration.disparity_offset_yaw_span_s"),
+                .find("disparity_offset_yaw_span_s"),
             std::string::npos);
   EXPECT_NE(with([](auto& o) { o.disparity_offset.robust_threshold_chi2 = -1; })
-                .find("calibration.disparity_offset.robust_threshold_chi2"),
+                .find("disparity_offset.robust_threshold_chi2"),
             std::string::npos);
 }
 

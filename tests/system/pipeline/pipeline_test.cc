@@ -29,8 +29,8 @@ RunInput SmallSyntheticInput(double density = 0.3) {
 
 PipelineOptions OnlineOptionsFor(bool sequential) {
   PipelineOptions o;
-  o.ApplyPreset("outdoor");
-  o.mode = "online";
+  o.ApplyPreset(Preset::kOutdoor);
+  o.mode = RunMode::kOnline;
   o.online.sequential = sequential;
   o.backend.max_iterations = 1;  // keeps the test fast; the plumbing is what is pinned here
   return o;
@@ -149,10 +149,10 @@ TEST(Pipeline, BatchModeGivesEveryFrameAPoseNearTheTruth) {
   // this scene's cars for the static world (measured: warm camera error 25.6 m).
   const RunInput in = SmallSyntheticInput(1.0);
   PipelineOptions o = OnlineOptionsFor(true);
-  o.mode = "batch";
+  o.mode = RunMode::kBatch;
   o.batch.warm_start = false;
   o.backend.max_iterations = 5;
-  o.ApplyAblation("no-i");
+  o.ApplyAblation(ClusterSlamAblation::kNoImagePrior);
   const PipelineResult r = RunPipeline(in, o);
   ASSERT_EQ(r.windows.size(), 1u);
   ASSERT_TRUE(r.batch.has_value());
@@ -188,10 +188,10 @@ double CameraRms(const RunInput& in, const PipelineResult& r) {
 TEST(Pipeline, TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa) {
   const RunInput in = SmallSyntheticInput(1.0);
   PipelineOptions o = OnlineOptionsFor(true);
-  o.mode = "batch";
-  o.method = "true-labels";
+  o.mode = RunMode::kBatch;
+  o.method = Method::kTrueLabels;
   const PipelineResult truth = RunPipeline(in, o);
-  o.method = "full-ba";
+  o.method = Method::kFullBa;
   const PipelineResult full = RunPipeline(in, o);
   ASSERT_TRUE(truth.batch.has_value());
   ASSERT_TRUE(full.batch.has_value());
@@ -205,9 +205,9 @@ TEST(Pipeline, TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa) {
 TEST(Pipeline, TrueLabelsMethodNeedsReplayedSyntheticTracklets) {
   RunInput in;
   in.path = "/data/clip_a";
-  in.kind = "kitti_odometry";
+  in.kind = InputKind::kKittiOdometry;
   PipelineOptions o;
-  o.method = "true-labels";
+  o.method = Method::kTrueLabels;
   try {
     RunPipeline(in, o);
     FAIL() << "no error";
@@ -216,8 +216,8 @@ TEST(Pipeline, TrueLabelsMethodNeedsReplayedSyntheticTracklets) {
               std::string::npos)
         << e.what();
   }
-  EXPECT_NO_THROW(CheckMethodFitsInput("full-ba", in));
-  EXPECT_NO_THROW(CheckMethodFitsInput("true-labels", SmallSyntheticInput()));
+  EXPECT_NO_THROW(CheckMethodFitsInput(Method::kFullBa, in));
+  EXPECT_NO_THROW(CheckMethodFitsInput(Method::kTrueLabels, SmallSyntheticInput()));
 }
 
 // batch.warm_start (the default): the whole-sequence call starts from the online windows' map;
@@ -229,8 +229,8 @@ TEST(Pipeline, WarmStartedBatchClustersAsWellAsTheColdOne) {
   so.frames = 60;
   const RunInput in = SyntheticRunInput(GenerateSynthetic(so));
   PipelineOptions o;
-  o.ApplyPreset("outdoor");
-  o.mode = "batch";
+  o.ApplyPreset(Preset::kOutdoor);
+  o.mode = RunMode::kBatch;
   const PipelineResult warm = RunPipeline(in, o);
   o.batch.warm_start = false;
   const PipelineResult cold = RunPipeline(in, o);
@@ -262,7 +262,7 @@ TEST(Pipeline, WarmBatchPutsOnlyTheWholeSequenceOnTheNativeSparseSolver) {
   };
   for (bool native : {true, false}) {
     PipelineOptions o = OnlineOptionsFor(true);
-    o.mode = "batch";
+    o.mode = RunMode::kBatch;
     o.batch.native_sparse_solver = native;
     std::vector<Call> calls;
     const BackendFunction recording = [&calls](const TrackletTable& t, const StereoCamera& c,
@@ -375,7 +375,7 @@ TEST(Pipeline, AFiniteButAbsurdEstimateIsDiscarded) {
 TEST(Pipeline, AFailedBatchCallLeavesAnEmptyMapNotAnError) {
   const RunInput in = SmallSyntheticInput();
   PipelineOptions o = OnlineOptionsFor(true);
-  o.mode = "batch";
+  o.mode = RunMode::kBatch;
   const PipelineResult r = RunPipeline(in, o, nullptr, {}, FailingAt({40}, {}));
   ASSERT_FALSE(r.error);
   ASSERT_EQ(r.windows.size(), 1u);
@@ -429,7 +429,7 @@ TEST(Pipeline, NoWindowSpansATrackingLossAndTheMapMarksTheGap) {
 TEST(Pipeline, BatchModeSolvesEachStretchBetweenTrackingLosses) {
   const RunInput in = WithTrackingLoss(SmallSyntheticInput(), 18, 20);
   PipelineOptions o = OnlineOptionsFor(true);
-  o.mode = "batch";
+  o.mode = RunMode::kBatch;
   const PipelineResult r = RunPipeline(in, o);
   ASSERT_FALSE(r.error);
   ASSERT_EQ(r.windows.size(), 2u);

@@ -118,8 +118,7 @@ TEST(SnapshotRenderer, OptionsLoadEveryKeyFromYaml) {
       "  max_depth_m: 25, voxel_size_m: 0.1, max_assign_distance_m: 1}\n",
       "test.yaml");
   SnapshotOptions options;
-  options.Load(reader);
-  EXPECT_NO_THROW(reader.Finish());
+  EXPECT_NO_THROW(reader.LoadInto(&options));
   EXPECT_NO_THROW(options.Check());
   EXPECT_EQ(options.width, 800);
   EXPECT_EQ(options.supersampling, 3);

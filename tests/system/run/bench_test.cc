@@ -136,7 +136,7 @@ TEST(Bench, ChunkLengthOverrideKeepsTheOverlapBelowIt) {
   const PipelineOptions o = BenchPipelineOptions("indoor", FindBenchMethod("clusterslam"), 30);
   EXPECT_EQ(o.backend.consensus.chunk_length, 30);
   EXPECT_LT(o.backend.consensus.chunk_overlap, 30);
-  EXPECT_EQ(o.mode, "batch");
+  EXPECT_EQ(o.mode, RunMode::kBatch);
 }
 
 }  // namespace

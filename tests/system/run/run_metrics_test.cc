@@ -32,7 +32,7 @@ TEST(RunMetrics, GroundTruthCheckComparesTheSecondEstimateWithTheTruthAndTheCame
   result.frames_processed = frames;
   RunInput input;
   input.name = "straight";
-  input.kind = "kitti_raw";
+  input.kind = InputKind::kKittiRaw;
   input.gt_world_from_cam.emplace();
   for (int f = 0; f < frames; ++f) {
     input.timestamps.push_back(0.1 * f);
@@ -67,7 +67,7 @@ TEST(RunMetrics, WithoutACrossCheckTheGroundTruthBlockIsEmpty) {
   result.map = StraightDrive(10);
   result.frames_processed = 10;
   RunInput input;
-  input.kind = "kitti_odometry";
+  input.kind = InputKind::kKittiOdometry;
   input.gt_world_from_cam.emplace();
   for (int f = 0; f < 10; ++f) {
     input.timestamps.push_back(0.1 * f);

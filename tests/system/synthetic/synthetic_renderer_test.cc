@@ -340,12 +340,12 @@ TEST(SyntheticImageIo, WrittenSequenceOpensAsKittiOdometryAndAsSyntheticWithImag
   EXPECT_EQ(cv::norm(ReadObjectIdImage(dir, 2), again.object_id, cv::NORM_INF), 0.0);
 
   const RunInput input = OpenRunInput(dir, InputOptions{});
-  EXPECT_EQ(input.kind, "synthetic_images");
+  EXPECT_EQ(input.kind, InputKind::kSyntheticImages);
   ASSERT_TRUE(input.has_images());
   EXPECT_EQ(input.num_frames(), 3);
   InputOptions replay;
   replay.use_images = false;
-  EXPECT_EQ(OpenRunInput(dir, replay).kind, "synthetic");
+  EXPECT_EQ(OpenRunInput(dir, replay).kind, InputKind::kSynthetic);
 
   EXPECT_THROW(ReadObjectIdImage(dir, 3), InputError);
 }

@@ -262,8 +262,7 @@ TEST(SyntheticOptions, LoadReadsEveryField) {
       "landmark_density: 2.0\n",
       "test.yaml");
   SyntheticOptions o;
-  o.Load(reader);
-  reader.Finish();
+  reader.LoadInto(&o);
   EXPECT_EQ(o.preset, "indoor");
   EXPECT_EQ(o.seed, 7);
   EXPECT_EQ(o.frames, 50);
