@@ -243,7 +243,8 @@ std::string SuiteMarkdown(const SuiteTable& table) {
     s << "| " << first;
     for (const SuiteColumn& c : columns) s << " | " << c.header;
     s << " |\n|---";
-    if (first.find('|') != std::string::npos) s << "|---|---";
+    for (char ch : first)
+      if (ch == '|') s << "|---";
     for (size_t c = 0; c < columns.size(); ++c) s << "|---:";
     s << "|\n";
   };
