@@ -29,6 +29,7 @@
 #include "system/run/bench_suite.h"
 #include "core/atomic_file.h"
 #include "system/run/run_executor.h"
+#include "system/run/slurm_executor.h"
 #include "system/run/suite_manifest.h"
 #include "system/run/suite_table.h"
 
@@ -40,6 +41,9 @@ struct BenchArgs {
   BenchOptions options;
   std::string executor = "local";
   LocalExecutorOptions local;
+  SuiteSlurmOptions slurm_flags;  // each set field overrides the manifest's slurm: section
+  double slurm_poll_s = 5.0;
+  bool slurm_wait = true;
   std::string collect_dir;  // `cslam bench collect DIR`
   double noise_px = -1;  // < 0: the generator's default
   std::vector<std::string> sweeps;
@@ -255,9 +259,19 @@ int SummariseSuite(const SuiteTable& table, const std::string& out) {
 
 int BenchSuiteManifest(BenchArgs& args) {
   args.local.Check();
-  if (args.executor != "local")
-    throw ConfigError("--executor: unknown executor '" + args.executor + "' (known: local)");
+  if (args.executor != "local" && args.executor != "slurm")
+    throw ConfigError("--executor: unknown executor '" + args.executor + "' (known: local, slurm)");
   SuiteManifest manifest = ReadSuiteManifest(args.options.suite);
+  SlurmExecutorOptions slurm;
+  slurm.resources = manifest.slurm;
+  if (!args.slurm_flags.partition.empty()) slurm.resources.partition = args.slurm_flags.partition;
+  if (!args.slurm_flags.time.empty()) slurm.resources.time = args.slurm_flags.time;
+  if (!args.slurm_flags.mem.empty()) slurm.resources.mem = args.slurm_flags.mem;
+  if (!args.slurm_flags.account.empty()) slurm.resources.account = args.slurm_flags.account;
+  if (args.slurm_flags.cpus_per_task > 0) slurm.resources.cpus_per_task = args.slurm_flags.cpus_per_task;
+  slurm.poll_s = args.slurm_poll_s;
+  slurm.wait = args.slurm_wait;
+  slurm.Check();
   const std::string program = OwnProgramPath();
   PrepareOutputFolder(args.out);
   LogToFileOnly(args.out + "/bench.log");
@@ -288,7 +302,7 @@ int BenchSuiteManifest(BenchArgs& args) {
   StopFlag stop;
   const bool tty = args.progress && isatty(2);
   int last_done = -1;
-  RunLocally(tasks, args.local, stop.flag(), [&](const SuiteProgress& p) {
+  const auto on_progress = [&](const SuiteProgress& p) {
     if (tty) {
       std::fprintf(stderr, "\r%s   ", p.Line().c_str());
       std::fflush(stderr);
@@ -297,7 +311,17 @@ int BenchSuiteManifest(BenchArgs& args) {
     }
     if (p.done != last_done) log->info("{}", p.Line());
     last_done = p.done;
-  });
+  };
+  if (args.executor == "slurm") {
+    const std::string job = RunOnSlurm(tasks, slurm, args.out, stop.flag(), on_progress);
+    if (!slurm.wait) {
+      std::printf("bench: submitted Slurm array job %s; when it has ended: cslam bench collect %s\n",
+                  job.c_str(), args.out.c_str());
+      return kExitOk;
+    }
+  } else {
+    RunLocally(tasks, args.local, stop.flag(), on_progress);
+  }
   if (tty) std::fprintf(stderr, "\n");
 
   SuiteTable table = CollectSuiteTable(manifest, args.out);
@@ -351,8 +375,19 @@ Command AddBenchCommand(CLI::App& app) {
                   "`synthetic` (generated sequences, in this process) or a suite manifest "
                   "FILE.yaml (docs/usage.md): each run a `cslam run` child process")
       ->capture_default_str();
-  sub->add_option("--executor", args->executor, "with a manifest: local (a pool of processes here)")
+  sub->add_option("--executor", args->executor,
+                  "with a manifest: local (a pool of processes here) or slurm (one sbatch array "
+                  "job, each task one run)")
       ->capture_default_str();
+  sub->add_option("--slurm-partition", args->slurm_flags.partition, "sbatch --partition");
+  sub->add_option("--slurm-time", args->slurm_flags.time, "sbatch --time per task, e.g. 01:00:00");
+  sub->add_option("--slurm-mem", args->slurm_flags.mem, "sbatch --mem per task, e.g. 4G");
+  sub->add_option("--slurm-cpus", args->slurm_flags.cpus_per_task, "sbatch --cpus-per-task");
+  sub->add_option("--slurm-account", args->slurm_flags.account, "sbatch --account");
+  sub->add_option("--slurm-poll", args->slurm_poll_s, "seconds between squeue polls")
+      ->capture_default_str();
+  sub->add_flag("!--no-wait", args->slurm_wait,
+                "with --executor slurm: submit and return; `cslam bench collect DIR` later");
   sub->add_option("--jobs", args->local.jobs, "with --executor local: runs at once")
       ->capture_default_str();
   sub->add_option("--out", args->out, "output folder")->capture_default_str();

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
+
 #include "core/errors.h"
 #include "tests/apps/subprocess.h"
 #include "tests/system/kitti_fixtures.h"
@@ -169,6 +171,65 @@ TEST_F(CliBenchSuite, BadManifestsAreNamedBeforeAnythingRuns) {
   r = Bench({"collect", (tmp_.path() / "not_a_suite").string()}, "collect");
   EXPECT_EQ(r.exit_code, kExitInputError) << r.err;
   EXPECT_THAT(r.err, HasSubstr("suite.json: not found"));
+}
+
+// The Slurm executor's scripts run by a stand-in sbatch (this machine has no Slurm): it runs
+// the array's tasks one after the other except task 1, which it "kills for time" (no marker);
+// the stand-in sacct then reports TIMEOUT for it. The task that ran gives the local
+// executor's figures; the killed one is a failed row naming the reason. Without sbatch on
+// PATH the message says what to install.
+TEST_F(CliBenchSuite, SlurmArrayScriptsRunAndKilledTasksAreMarked) {
+  const fs::path m = Manifest("slurm.yaml",
+                              "slurm: {time: \"00:10:00\", mem: 2G, cpus_per_task: 2}\n"
+                              "entries:\n"
+                              "  - synthetic: {preset: outdoor, seed: 3, frames: 30}\n    mode: batch\n"
+                              "  - synthetic: {preset: outdoor, seed: 4, frames: 30}\n    mode: batch\n");
+  const fs::path bin = tmp_.path() / "fake_slurm_bin";
+  testing::WriteText(bin / "sbatch",
+                     "#!/bin/sh\n# stand-in: sbatch --parsable SCRIPT\nscript=$2\n"
+                     "cp \"$script\" \"$(dirname \"$script\")/submitted.sh\"\n"
+                     "n=$(sed -n 's/^#SBATCH --array=0-//p' \"$script\")\n"
+                     "k=0; while [ $k -le $n ]; do\n"
+                     "  [ $k -ne 1 ] && SLURM_ARRAY_TASK_ID=$k sh \"$script\" > /dev/null 2>&1\n"
+                     "  k=$((k+1)); done\necho 4242\n");
+  testing::WriteText(bin / "squeue", "#!/bin/sh\nexit 0\n");
+  testing::WriteText(bin / "sacct", "#!/bin/sh\necho '4242_0|COMPLETED|0:0'\necho '4242_1|TIMEOUT|0:0'\n");
+  for (const char* f : {"sbatch", "squeue", "sacct"})
+    fs::permissions(bin / f, fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
+  const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "/usr/bin:/bin";
+  setenv("PATH", (bin.string() + ":" + old_path).c_str(), 1);
+  const auto r = Bench({"--suite", m.string(), "--out", out().string(), "--executor", "slurm",
+                        "--slurm-poll", "0.1", "--no-progress"}, "slurm");
+  setenv("PATH", "/usr/bin:/bin", 1);  // no sbatch
+  const auto none = Bench({"--suite", m.string(), "--out", (tmp_.path() / "none").string(),
+                           "--executor", "slurm"}, "no_sbatch");
+  setenv("PATH", old_path.c_str(), 1);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const std::string submitted = testing::ReadText(out() / "slurm" / "submitted.sh");
+  EXPECT_THAT(submitted, HasSubstr("#SBATCH --array=0-1"));
+  EXPECT_THAT(submitted, HasSubstr("#SBATCH --time=00:10:00"));
+  EXPECT_THAT(submitted, HasSubstr("#SBATCH --mem=2G"));
+  EXPECT_THAT(submitted, HasSubstr("#SBATCH --cpus-per-task=2"));
+  const nlohmann::json table = Json(out() / "bench.json");
+  EXPECT_EQ(table["executor"], "slurm");
+  EXPECT_EQ(Row(table, "synthetic_outdoor_seed3_f30")["status"], "ok");
+  const nlohmann::json& killed = Row(table, "synthetic_outdoor_seed4_f30");
+  EXPECT_EQ(killed["status"], "failed");
+  EXPECT_THAT(killed["error"].get<std::string>(), HasSubstr("Slurm task 4242_1 ended TIMEOUT"));
+
+  // The same entry through the local executor: the same figures.
+  const auto local = Bench({"--suite", m.string(), "--out", (tmp_.path() / "local").string(),
+                            "--jobs", "2", "--no-progress"}, "local");
+  ASSERT_EQ(local.exit_code, 0) << local.err;
+  const nlohmann::json local_table = Json(tmp_.path() / "local" / "bench.json");
+  EXPECT_EQ(Row(table, "synthetic_outdoor_seed3_f30")["metrics"]["camera"],
+            Row(local_table, "synthetic_outdoor_seed3_f30")["metrics"]["camera"]);
+  EXPECT_EQ(Row(table, "synthetic_outdoor_seed3_f30")["metrics"]["clustering"],
+            Row(local_table, "synthetic_outdoor_seed3_f30")["metrics"]["clustering"]);
+
+  EXPECT_EQ(none.exit_code, kExitConfigError) << none.err;
+  EXPECT_THAT(none.err, HasSubstr("sbatch not found on PATH"));
+  EXPECT_THAT(none.err, HasSubstr("--executor local"));
 }
 
 }  // namespace
