@@ -200,9 +200,16 @@ TEST_F(CliBenchSuite, SlurmArrayScriptsRunAndKilledTasksAreMarked) {
   setenv("PATH", (bin.string() + ":" + old_path).c_str(), 1);
   const auto r = Bench({"--suite", m.string(), "--out", out().string(), "--executor", "slurm",
                         "--slurm-poll", "0.1", "--no-progress"}, "slurm");
-  setenv("PATH", "/usr/bin:/bin", 1);  // no sbatch
+  fs::create_directories(tmp_.path() / "empty_bin");
+  setenv("PATH", (tmp_.path() / "empty_bin").c_str(), 1);  // no sbatch
   const auto none = Bench({"--suite", m.string(), "--out", (tmp_.path() / "none").string(),
                            "--executor", "slurm"}, "no_sbatch");
+  const fs::path refusing = tmp_.path() / "refusing_bin";
+  testing::WriteText(refusing / "sbatch", "#!/bin/sh\necho 'sbatch: error: invalid partition specified: gpu' >&2\nexit 1\n");
+  fs::permissions(refusing / "sbatch", fs::perms::owner_all);
+  setenv("PATH", (refusing.string() + ":" + old_path).c_str(), 1);
+  const auto refused = Bench({"--suite", m.string(), "--out", (tmp_.path() / "refused").string(),
+                              "--executor", "slurm", "--slurm-partition", "gpu"}, "refused");
   setenv("PATH", old_path.c_str(), 1);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string submitted = testing::ReadText(out() / "slurm" / "submitted.sh");
@@ -230,6 +237,9 @@ TEST_F(CliBenchSuite, SlurmArrayScriptsRunAndKilledTasksAreMarked) {
   EXPECT_EQ(none.exit_code, kExitConfigError) << none.err;
   EXPECT_THAT(none.err, HasSubstr("sbatch not found on PATH"));
   EXPECT_THAT(none.err, HasSubstr("--executor local"));
+  EXPECT_EQ(refused.exit_code, kExitConfigError) << refused.err;
+  EXPECT_THAT(refused.err, HasSubstr("sbatch refused the job (exit 1): sbatch: error: invalid partition specified: gpu"));
+  EXPECT_THAT(testing::ReadText(tmp_.path() / "refused" / "slurm" / "array.sh"), HasSubstr("#SBATCH --partition=gpu"));
 }
 
 }  // namespace
