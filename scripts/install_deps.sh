@@ -5,7 +5,8 @@ PKGS=(build-essential cmake ninja-build pkg-config
       libopencv-dev libeigen3-dev libceres-dev libsuitesparse-dev libpcl-dev libosmesa6-dev
       libspdlog-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libtinyxml2-dev
       libgtest-dev libgmock-dev libbenchmark-dev
-      clang libclang-rt-dev llvm)  # sanitizers, libFuzzer, llvm-symbolizer (scripts/sanitize.sh, fuzz.sh)
+      clang libclang-rt-dev llvm   # sanitizers, libFuzzer, llvm-symbolizer (scripts/sanitize.sh, fuzz.sh)
+      slurm-wlm munge)             # a single-node Slurm for the suite test (scripts/slurm-local.sh)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

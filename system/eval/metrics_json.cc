@@ -98,7 +98,8 @@ nlohmann::json ToJson(const RunMetrics& m) {
   j["timing"] = {{"total_s", Value(m.timing.total_s)},
                  {"frontend_ms_per_frame", Value(m.timing.frontend_ms_per_frame)},
                  {"backend_ms_per_window", Value(m.timing.backend_ms_per_window)},
-                 {"hz", Value(m.timing.hz)}};
+                 {"hz", Value(m.timing.hz)},
+                 {"peak_rss_mb", Value(m.timing.peak_rss_mb)}};
   j["run"] = {{"interrupted", m.run.interrupted},
               {"windows", m.run.windows},
               {"failed_windows", m.run.failed_windows},
@@ -207,6 +208,7 @@ RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source
     Read(t, "frontend_ms_per_frame", m.timing.frontend_ms_per_frame);
     Read(t, "backend_ms_per_window", m.timing.backend_ms_per_window);
     Read(t, "hz", m.timing.hz);
+    Read(t, "peak_rss_mb", m.timing.peak_rss_mb);
     const json& r = Child(j, "run");
     if (r.is_object()) {
       m.run.interrupted = r.value("interrupted", false);

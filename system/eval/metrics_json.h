@@ -63,6 +63,9 @@ struct RunMetrics {
   /// Wall-clock figures.
   struct Timing {
     std::optional<double> total_s, frontend_ms_per_frame, backend_ms_per_window, hz;
+    /// The process's peak resident set size, MiB (getrusage ru_maxrss), taken when the
+    /// metrics are written: the run's own figure, whatever ran it.
+    std::optional<double> peak_rss_mb;
   };
   /// How the run went (docs/reliability.md): what was cut short, discarded or chained blindly.
   struct Status {

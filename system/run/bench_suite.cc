@@ -34,7 +34,7 @@ const BenchMethod& FindBenchMethod(const std::string& key) {
 
 void BenchOptions::Check() const {
   if (suite != "synthetic")
-    throw ConfigError("--suite: unknown suite '" + suite + "' (known: synthetic)");
+    throw ConfigError("--suite: unknown suite '" + suite + "' (known: synthetic, or a suite manifest FILE.yaml)");
   CheckOption(frames == 0 || frames >= 2, "--frames", "must be 0 (whole sequence) or >= 2", frames);
   CheckOption(seeds_indoor >= 0, "--seeds-indoor", "must be >= 0", seeds_indoor);
   CheckOption(seeds_outdoor >= 0, "--seeds-outdoor", "must be >= 0", seeds_outdoor);

@@ -11,6 +11,7 @@
 #include "system/eval/noise_check.h"
 #include "system/eval/trajectory_evaluation.h"
 #include "system/run/run_writer.h"
+#include "system/runtime/resource_log.h"
 #include "system/synthetic/synthetic_image_io.h"
 #include "system/synthetic/synthetic_landmark_truth.h"
 
@@ -314,6 +315,7 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
 
   m.timing.total_s = result.total_s;
   if (result.total_s > 0) m.timing.hz = result.frames_processed / result.total_s;
+  if (const double rss = PeakResidentMegabytes(); rss > 0) m.timing.peak_rss_mb = rss;
   if (!result.frontend_frames.empty()) {
     double sum = 0;
     for (const auto& f : result.frontend_frames) sum += f.total_ms;

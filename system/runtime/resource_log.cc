@@ -1,5 +1,6 @@
 #include "system/runtime/resource_log.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -23,6 +24,12 @@ double ResidentMegabytes() {
   if (!(statm >> size_pages >> resident_pages)) return 0.0;
   return static_cast<double>(resident_pages) * static_cast<double>(sysconf(_SC_PAGESIZE)) /
          (1024.0 * 1024.0);
+}
+
+double PeakResidentMegabytes() {
+  struct rusage usage {};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
 void ResourceSampler::AfterFrame(int frames_done) {

@@ -19,6 +19,10 @@ struct ResourceSample {
 /// Resident set size of this process in MiB, from /proc/self/statm (0 if unreadable).
 double ResidentMegabytes();
 
+/// Peak resident set size of this process so far in MiB, from getrusage(RUSAGE_SELF)
+/// ru_maxrss (kilobytes on Linux); 0 if unavailable.
+double PeakResidentMegabytes();
+
 /// Samples every `every` frames (and whenever Finish is called) from the run's start.
 class ResourceSampler {
  public:
