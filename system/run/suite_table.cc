@@ -1,5 +1,6 @@
 #include "system/run/suite_table.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -275,6 +276,21 @@ std::string SuiteMarkdown(const SuiteTable& table) {
   return s.str();
 }
 
+namespace {
+
+// A bar's label has room for ~16 characters: KITTI raw folders lose their date and "_sync"
+// (2011_09_26_drive_0005_sync -> drive_0005), synthetic inputs their "synthetic_".
+std::string ShortDriveLabel(std::string drive) {
+  if (drive.size() > 11 && drive.compare(4, 1, "_") == 0 && drive.compare(7, 1, "_") == 0 &&
+      drive.compare(10, 1, "_") == 0 && std::isdigit(static_cast<unsigned char>(drive[0])))
+    drive = drive.substr(11);
+  if (drive.size() > 5 && drive.compare(drive.size() - 5, 5, "_sync") == 0) drive.resize(drive.size() - 5);
+  if (drive.rfind("synthetic_", 0) == 0) drive = drive.substr(10);
+  return drive;
+}
+
+}  // namespace
+
 void WriteSuiteTable(const SuiteTable& table, const std::string& dir) {
   WriteFileAtomically((fs::path(dir) / "bench.json").string(),
                       [&](std::ostream& o) { o << SuiteToJson(table).dump(2) << "\n"; });
@@ -286,7 +302,8 @@ void WriteSuiteTable(const SuiteTable& table, const std::string& dir) {
   chart.y_label = "ATE (m)";
   std::map<std::string, size_t> drive_index, system_index;
   for (const SuiteRow& r : table.rows) {
-    if (drive_index.emplace(r.drive, chart.categories.size()).second) chart.categories.push_back(r.drive);
+    if (drive_index.emplace(r.drive, chart.categories.size()).second)
+      chart.categories.push_back(ShortDriveLabel(r.drive));
     if (system_index.emplace(r.system, chart.series.size()).second) {
       BarSeries s;
       s.label = r.system;
