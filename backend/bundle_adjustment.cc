@@ -177,7 +177,7 @@ class DcsLoss final : public ceres::LossFunction {
 /// A pose b_from_a as one Ceres block of 7: Eigen quaternion (x, y, z, w), then translation.
 /// One block, not two [ours, measured]: the Schur elimination and the sparse normal equations
 /// work per pair of parameter blocks a point links, so a point seen in n frames costs ~(2n)²/2
-/// block updates with split blocks and n²/2 with one (docs/benchmarks.md, "Batch speed").
+/// block updates with split blocks and n²/2 with one (docs/experiments/2026-12-01-batch-speed.md).
 /// The tangent space (quaternion ⊕ R³) is the same, so are the steps.
 struct PoseBlock {
   std::array<double, 7> x{0, 0, 0, 1, 0, 0, 0};
@@ -402,9 +402,10 @@ class Solve {
     }
     // Schur solvers eliminate the points (group 0) first. Sparse normal Cholesky gets no
     // constraint [ours, measured]: CHOLMOD's minimum-degree ordering then eliminates whichever
-    // side is cheaper — for a moving cluster of a few landmarks seen in 100–200 frames that is
+    // side is cheaper — for a moving cluster of a few landmarks seen in many frames that is
     // the poses, leaving a tiny dense system on the points, where points-first filled a dense
-    // 6·frames square (docs/benchmarks.md, "Backend speed"). Same normal equations, same steps.
+    // 6·frames square (docs/experiments/2026-11-23-backend-speed.md). Same normal equations,
+    // same steps.
     if (so.linear_solver_type != ceres::SPARSE_NORMAL_CHOLESKY ||
         options_.points_first_sparse_ordering) {
       const bool poses_first = so.linear_solver_type == ceres::DENSE_SCHUR &&
@@ -727,8 +728,9 @@ class Adjuster {
   /// Whether `point`, at its current estimate, is farther from the camera than
   /// far_depth_baselines (BundleAdjustmentOptions). The current depth, not the observation's
   /// own disparity, decides: choosing by the noisy measurement would keep exactly the
-  /// observations whose noise enlarged the disparity, a bias towards near depths (measured:
-  /// the generated outdoor sequences' scale 0.2 % short).
+  /// observations whose noise enlarged the disparity, a bias towards near depths (measured: it
+  /// shortened the generated outdoor sequences' scale;
+  /// docs/experiments/2026-12-02-far-points-without-disparity.md).
   bool FarFrom(const PoseBlock& cam_from_world, const double* point) const {
     if (options_.far_depth_baselines <= 0) return false;
     const Eigen::Map<const Eigen::Quaterniond> q(cam_from_world.data());

@@ -57,22 +57,22 @@ struct BundleAdjustmentOptions {
   /// Observations a pose needs to be optimised; fewer → held at its initial value.
   int min_observations_per_pose = 3;
   /// Poses (frames × bodies) from which a solve uses the sparse solver below instead of
-  /// DENSE_SCHUR. Measured (docs/benchmarks.md, "Backend speed"): 0 takes 37 % fewer
-  /// instructions on a 30-frame outdoor estimation, but CHOLMOD's BLAS threads then spin on
-  /// the shared machine and online runs got slower in wall and system time, so 60 stays.
+  /// DENSE_SCHUR. Measured (docs/experiments/2026-11-23-backend-speed.md): 0 takes fewer
+  /// instructions on a short outdoor estimation, but CHOLMOD's BLAS threads then spin on a
+  /// shared machine and online runs got slower in wall and system time, so 60 stays.
   int sparse_schur_min_poses = 60;
   /// [ours, measured] sparse normal Cholesky: with tracks tens of frames long, Ceres' sparse
   /// Schur spends more time building the reduced camera system's block structure and
-  /// locking its cells than solving (2.0–2.5× slower on synthetic indoor and outdoor chunks,
-  /// same result; docs/benchmarks.md).
+  /// locking its cells than solving (slower on synthetic indoor and outdoor chunks, same
+  /// result; docs/experiments/2026-11-23-backend-speed.md).
   SparseSolver sparse_solver = SparseSolver::kNormalCholesky;
   /// Factorisation library of normal_cholesky / schur [SuiteSparse's CHOLMOD; eigen = Eigen's
   /// simplicial LDLᵀ, no BLAS].
   SparseLibrary sparse_library = SparseLibrary::kSuiteSparse;
   /// Sparse normal Cholesky: constrain the elimination order to all points before all poses
   /// (the behaviour before 2026-11-23). Off [ours, measured]: the minimum-degree ordering picks
-  /// the cheaper side itself — 5–10× faster on small moving clusters seen in many frames, same
-  /// solution (docs/benchmarks.md, "Backend speed").
+  /// the cheaper side itself — much faster on small moving clusters seen in many frames, same
+  /// solution (docs/experiments/2026-11-23-backend-speed.md).
   bool points_first_sparse_ordering = false;
   /// DENSE_SCHUR eliminates the poses instead of the points when the points' reduced system
   /// (3 per free point) is smaller than the poses' (6 per free pose) and every residual
@@ -88,14 +88,13 @@ struct BundleAdjustmentOptions {
   /// Solves that would use DENSE_SCHUR and whose residuals each touch one pose (the decoupled
   /// ones) run on backend/stereo_lm.h, a Levenberg–Marquardt with the stereo block sizes fixed
   /// at compile time, instead of Ceres [ours, measured: same minimum, a fraction of the time;
-  /// docs/benchmarks.md, "Native dense solver"].
+  /// docs/experiments/2026-12-01-native-dense-solver.md].
   bool native_dense_solver = true;
   /// Solves with at least `sparse_schur_min_poses` poses whose residuals each touch one pose
   /// (the decoupled ones) also run on backend/stereo_lm.h, with the reduced system factored
   /// by its profile (envelope Cholesky), instead of Ceres' sparse solver [ours, measured:
-  /// outdoor 200-frame batch 27–29 % less CPU, but the clustering loop then ends on other
-  /// labellings — accuracy 0.948 → 0.910 (seed 1), 8 → 6 objects (seed 2) — so off by
-  /// default; docs/benchmarks.md, "Native profile solver"].
+  /// less CPU on outdoor batch runs, but the clustering loop then ends on other labellings,
+  /// some worse — so off by default; docs/experiments/2026-12-02-native-profile-solver.md].
   bool native_sparse_solver = false;
   /// [ours; ORB-SLAM's close/far split] Static landmarks farther from a camera than this many
   /// stereo baselines (at their current estimate) have the variance of that observation's

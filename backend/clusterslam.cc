@@ -170,8 +170,8 @@ std::vector<int> AssignAndRecluster(const TrackletTable& table, const PointTrack
 
 // The motion prior (BundleAdjustmentOptions::motion_prior_sigma_m) is the last step, once the
 // labels are settled. Inside the loop it steers the model assignment, and in batch mode that
-// cost objects found (generated outdoor seed 2: 9 → 6 of 10; docs/benchmarks.md, "Object pose
-// noise and the motion prior"), so the loop runs without it.
+// cost objects found (docs/experiments/2026-12-03-object-pose-noise-and-motion-prior.md), so
+// the loop runs without it.
 void DropMotionPrior(BundleAdjustmentOptions* ba) {
   ba->motion_prior_sigma_m = 0.0;
   ba->motion_prior_sigma_rad = 0.0;

@@ -48,19 +48,19 @@ inline constexpr EnumName<ClusterSlamAblation> kAblationNames[] = {
 struct WindowPriorOptions {
   bool enabled = true;  ///< false: every window runs the whole loop from scratch (cold start)
   /// Rounds of model assignment + estimation from the prior (the cold loop runs up to
-  /// max_iterations full estimations after a pairwise clustering). Measured: 2 rounds cost
-  /// 1.5–1.6× the CPU of 1 for the same camera and clustering (docs/benchmarks.md).
+  /// max_iterations full estimations after a pairwise clustering). Measured: a second round
+  /// costs CPU and gives the same camera and clustering
+  /// (docs/experiments/2026-12-01-online-windows-warm-started.md).
   int max_iterations = 1;
   /// Levenberg–Marquardt iterations of each adjustment (it starts near the answer; the solve
   /// still stops earlier at motion.bundle_adjustment.function_tolerance).
   int ba_iterations = 10;
   /// Relative cost decrease below which a window's adjustment stops; 0 = the cold loop's
   /// motion.bundle_adjustment.function_tolerance (1e-6). [ours, measured] A window starts
-  /// near its minimum: on KITTI raw 0005 the static solve's first LM step takes 95–98 % of the
-  /// whole decrease and the 3rd–7th steps under 0.5 %, and every frame is adjusted again by
-  /// the next five windows. 1e-3 ends it after 3–4 steps instead of 6–10, with the same
-  /// camera ATE, clustering and objects on KITTI, the odometry clip and the synthetic runs
-  /// (docs/benchmarks.md, "Window speed").
+  /// near its minimum: on KITTI raw 0005 the static solve's first LM step takes nearly the
+  /// whole decrease, and every frame is adjusted again by the next windows. 1e-3 ends it after
+  /// fewer steps with the same camera ATE, clustering and objects on KITTI, the odometry clip
+  /// and the synthetic runs (docs/experiments/2026-12-02-window-speed.md).
   double function_tolerance = 1e-3;
   /// LM iterations of each moving cluster's solve in a window; 0 = ba_iterations.
   int moving_ba_iterations = 0;
@@ -71,19 +71,18 @@ struct WindowPriorOptions {
   /// Start the window's moving clusters from the map's (true), or only its static world
   /// (false: landmarks of moving map clusters start unlabelled, and those the static world
   /// does not explain are re-clustered among themselves with Eq. 1 + HAC, as the cold loop's
-  /// outliers are). Measured (docs/benchmarks.md): true keeps the map's fragments of an
-  /// object apart window after window (indoor seed 1: 0 of 3 objects found, 18 clusters;
-  /// false 2 of 3, 5), false finds fewer cars outdoors (seed 1, 200 frames: 3 of 10, true 5).
+  /// outliers are). Measured (docs/experiments/2026-12-01-online-windows-warm-started.md): true
+  /// keeps the map's fragments of an object apart window after window (indoors it found fewer
+  /// objects in more clusters), false finds fewer cars outdoors.
   bool keep_moving_labels = false;
   /// Hold the camera poses the prior has (the map's; it never overwrites them) constant in
   /// the adjustments: only the frames new to the map (and the newest `free_known_frames`
   /// known ones), the moving clusters and the landmarks are estimated, and static landmarks
   /// only held poses see leave the static solve (backend/bundle_adjustment.h). Off by
-  /// default [measured, docs/benchmarks.md "Faster warm windows"]: KITTI 0005 backend 375 →
-  /// 186 ms CPU per window with the same ATE, but outdoor seed 1 (200 frames) drifts: camera
-  /// ATE 0.107 → 0.375 m all held, 0.143 m with 15 known frames free — a frame's map pose is
-  /// from the window where it was newest and least constrained, and holding it chains the
-  /// new frames to it.
+  /// default [measured, docs/experiments/2026-12-01-faster-warm-windows.md]: it halves a KITTI
+  /// window's backend CPU with the same ATE, but a generated outdoor sequence's camera drifts,
+  /// less so with some known frames free — a frame's map pose is from the window where it was
+  /// newest and least constrained, and holding it chains the new frames to it.
   bool fix_known_poses = false;
   /// With fix_known_poses: the newest this many known poses are adjusted all the same (a
   /// lag; 0 = every known pose held).
@@ -105,7 +104,8 @@ struct WindowPriorOptions {
 struct ClusterSlamOptions {
   /// Eq. 1 with α = 2·10⁻⁵ [ours, measured]: with the model assignment below, the first
   /// clustering only needs the static world as one cluster, and the paper's α = 4·10⁻⁴
-  /// splits it into image-compact pieces (docs/benchmarks.md). The paper's loop is
+  /// splits it into image-compact pieces
+  /// (docs/experiments/2026-11-23-backend-with-model-assignment.md). The paper's loop is
   /// `assignment.enabled: false` with `distance.alpha: 4e-4`.
   static MotionDistanceOptions FirstClusteringDistance() {
     MotionDistanceOptions d;
@@ -144,8 +144,8 @@ struct ClusterSlamOptions {
   /// whose largest axis is below it is scaled up, shape kept. 0.5 px = the frontend's
   /// localisation floor σ_det at level 0 (frontend/keypoint_covariance.h): its covariances
   /// have a largest eigenvalue ≥ 0.55 px² and are never changed; nor is the generator's at its
-  /// default 1.5 px (0.75 px²). At 0 px (1e-12 px²), seed 1, 100 frames, measured outdoor
-  /// accuracy 0.834 / 0.603 / 0.978 with 0.15 / 0.3 / 0.5 px, indoor 0.976 / 0.989 / 0.987.
+  /// default 1.5 px (0.75 px²). Floors at and below 0.5 px measured on the generator's 0 px
+  /// sequences: docs/experiments/2026-11-23-baselines-divergence-and-0px-noise.md.
   double min_pixel_sigma = 0.5;
   /// [ours] Online windows: start from the map's prior (RunClusterSlamWindow).
   WindowPriorOptions window_prior;

@@ -44,7 +44,7 @@ struct DisparityOffsetOptions {
   /// static and unlabelled ones stay in. Why: a point moving along the viewing direction
   /// looks like a static point whose stereo depth disagrees with its flow — what δ explains —
   /// and is not always far enough off the camera's motion for the rejection [measured,
-  /// docs/benchmarks.md "Disparity offset self-calibration"].
+  /// docs/experiments/2026-12-01-disparity-offset-self-calibration.md].
   bool exclude_moving = true;
 
   void Check() const;

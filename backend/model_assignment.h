@@ -5,10 +5,11 @@
 //
 // Why: the pairwise motion distance (Eq. 1) sees one scalar distance per frame between two
 // noisy points, so a car 30 m away and a static point next to it are often indistinguishable
-// pair by pair (measured on the synthetic generator: for half of the static–moving pairs the
-// whole co-observation carries less than 30 units of χ² excess), while a landmark's whole
-// track tested against a cluster's estimated motion separates the same car by a reduced χ² of
-// 25–5 000 against ≈ 1 for static points. The pairwise clustering then only has to produce a
+// pair by pair (measured on the synthetic generator: many static–moving pairs carry little χ²
+// excess over their whole co-observation), while a landmark's whole track tested against a
+// cluster's estimated motion separates the same car by a reduced χ² far above the ≈ 1 of
+// static points (docs/experiments/2026-11-23-backend-with-model-assignment.md). The pairwise
+// clustering then only has to produce a
 // first partition whose largest cluster is the static world; this step
 //   - reassigns each landmark to the motion model that explains its track best (ties go to
 //     the static cluster: a landmark that fits the static world is labelled static),
@@ -23,9 +24,9 @@
 //     fraction of their range: significant but too small for a body (a few tracks drifting
 //     alike pass the test). Its landmarks go to the best remaining model, or stay unlabelled.
 //
-// Real tracks (KITTI raw 0005, docs/benchmarks.md "Clustering on real drives"): under the
-// estimated static motion, static landmarks have a median cost of 0.35 but a heavy tail (8 %
-// above 3, 1 % above 390): single KLT jumps and tracks that follow no physical point
+// Real tracks (KITTI raw 0005, docs/experiments/2026-12-01-clustering-on-a-real-drive.md):
+// under the estimated static motion, most static landmarks have a small cost but the tail is
+// heavy: single KLT jumps and tracks that follow no physical point
 // (occlusion boundaries). The cost therefore leaves out up to `max_dropped_samples` samples
 // beyond a χ² gate, and unlabelled landmarks that fit nothing are not re-clustered again.
 //

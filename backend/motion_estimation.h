@@ -52,12 +52,13 @@ struct MotionEstimationOptions {
   /// observation failed the fusion gate, ShapeInitOptions::fusion_gate_chi2) stay out of the
   /// bundle adjustment and are re-placed at the mean of their mapped observations after it.
   /// Why: a car point labelled static is explained best by a point at infinity along its ray;
-  /// in the adjustment such points drift outwards by ~0.3 % of the cost per LM iteration and
-  /// the solve does not converge within its iterations. Static cluster only. Off by default
-  /// [measured, docs/benchmarks.md, "Batch speed" and "Robust shape initialisation"]: with
-  /// the fusion gate's verdict it found fewer objects; with shape_init.robust_registration
-  /// and refit_passes 2 it fixes outdoor seed 1 (200 frames, ATE 16.8 → 0.032 m) but lowers
-  /// a 60-frame outdoor run's clustering accuracy below the suite's 0.9.
+  /// in the adjustment such points keep drifting outwards and the solve does not converge
+  /// within its iterations. Static cluster only. Off by default [measured]: with the fusion
+  /// gate's verdict it found fewer objects; with shape_init.robust_registration and
+  /// refit_passes 2 it recovers the camera on a generated outdoor sequence where the cold loop
+  /// loses it, but lowers a short outdoor run's clustering accuracy below the suite test's
+  /// threshold (docs/experiments/2026-12-01-batch-speed.md,
+  /// docs/experiments/2026-12-01-robust-shape-initialisation.md).
   bool hold_out_inconsistent_landmarks = false;
 
   /// Throws ConfigError naming the field that breaks its rule.

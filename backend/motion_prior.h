@@ -1,9 +1,9 @@
 #pragma once
 // [ours, beyond the paper] A constant-velocity prior on a moving cluster's poses in three
 // consecutive frames. Why: a cluster's pose in one frame rests only on that frame's
-// observations of its points, and a car 40 m away holds ~10 points whose stereo depth is
-// metres uncertain each; its trajectory then jumps by a metre from frame to frame although no
-// car moves like that (docs/benchmarks.md, "Object pose noise and the motion prior").
+// observations of its points, and a far car holds a few points whose stereo depth is metres
+// uncertain each; its trajectory then jumps from frame to frame although no car moves like
+// that (docs/experiments/2026-12-03-object-pose-noise-and-motion-prior.md).
 //
 // The residual is taken at the body's centre in the world, so it does not depend on where the
 // cluster's (arbitrary) frame has its origin:

@@ -3,12 +3,12 @@
 // a point X in a body frame seen through one pose cam_from_body = (q, t), whitened by the
 // square root of the keypoint's information, r = S (x − π(R(q) X + t)).
 //
-// Two evaluations of the same expression: a template for Ceres' automatic differentiation
-// (the coupled solves compose two poses), and closed-form Jacobians [ours, measured]: the
-// decoupled solves evaluate this residual tens of thousands of times per LM iteration, and the
-// dual-number evaluation cost more than the rest of the Jacobian assembly
-// (docs/benchmarks.md, "Backend speed"). Both differentiate the literal expression Ceres sees
-// — Eigen's quaternion-times-vector, which does not normalise q — so they agree to rounding.
+// Two evaluations of the same expression: a template for Ceres' automatic differentiation (the
+// coupled solves compose two poses), and closed-form Jacobians [ours, measured]: the decoupled
+// solves evaluate this residual tens of thousands of times per LM iteration, and the dual-number
+// evaluation cost more than the rest of the Jacobian assembly
+// (docs/experiments/2026-11-23-backend-speed.md). Both differentiate the literal expression Ceres
+// sees — Eigen's quaternion-times-vector, which does not normalise q — so they agree to rounding.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 

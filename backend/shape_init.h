@@ -47,23 +47,25 @@ struct ShapeInitOptions {
   /// components; a farther observation is not integrated (the model keeps its mean). Why: with
   /// matrix weights, Eq. 4 of observations that disagree (a point on a moving car in a
   /// cluster that does not move with it — every car point under Full BA) is the intersection
-  /// of their depth-elongated ellipsoids, which lies arbitrarily far away; measured on outdoor
-  /// seed 1 the means reached 10⁵–10²⁰ m and the unweighted SVD start of the registration
-  /// followed them (camera ATE 10¹⁴ m). Default 16.27 = the 0.999 quantile of χ²(3): a
-  /// consistent observation is refused once in a thousand. <= 0 disables the gate.
+  /// of their depth-elongated ellipsoids, which lies arbitrarily far away; measured on a
+  /// generated outdoor sequence, the means ran away and the unweighted SVD start of the
+  /// registration followed them, and so did the camera. Default 16.27 = the 0.999 quantile of
+  /// χ²(3): a consistent observation is refused once in a thousand. <= 0 disables the gate.
   /// ClusterSLAM runs without it (default 0): its first iteration's all-but-static cluster
-  /// holds the cars, and the gate's refusals of their points made that start worse (outdoor
-  /// seed 1, 200 frames, batch: camera ATE 16.8 m with the gate, 0.028 m without; KITTI raw
-  /// 0005 and the other synthetic sequences equal or better without, docs/benchmarks.md).
+  /// holds the cars, and the gate's refusals of their points made that start worse (measured:
+  /// a generated outdoor sequence lost its camera with the gate; KITTI raw 0005 and the other
+  /// synthetic sequences equal or better without;
+  /// docs/experiments/2026-12-01-fusion-gate-baselines-only.md).
   double fusion_gate_chi2 = 0.0;
   /// [ours] A fused mean farther from the camera of the observation just integrated than this
   /// many times that observation's range marks the landmark as not moving with the cluster
   /// (as a fusion-gate refusal does: it is then placed at the mean of its observations). Why:
   /// without the gate, the matrix-weighted Eq. 4 of observations that disagree can run away
   /// along the depth-elongated ellipsoids, and with covariance_at_model a far mean makes every
-  /// new observation's Σ larger still, so nothing pulls it back; measured on outdoor seed 1 at
-  /// full length (453 frames), batch: means 200 m → 10⁵ m from observations at 35 m, the
-  /// registration followed them and the window's camera came out infinite. A consistent
+  /// new observation's Σ larger still, so nothing pulls it back; measured on a generated
+  /// outdoor sequence at full length, batch: the means ran far away from their observations,
+  /// the registration followed them and the window's camera came out infinite
+  /// (docs/experiments/2026-12-02-run-away-fusion-guard.md). A consistent
   /// observation is within its depth noise of the mean (≤ 1.5× its range at 100 m and 1 px).
   /// <= 0 disables it.
   double max_fused_range_ratio = 4.0;
@@ -75,12 +77,12 @@ struct ShapeInitOptions {
   /// and then Eq. 3 on the hypothesis' inliers only, instead of Eq. 3 on every correspondence.
   /// Why: a cluster that holds landmarks which do not move with it (cars in the first static
   /// cluster, which holds nearly everything) otherwise gets the least-squares compromise
-  /// between the motions; near car points are precise and dominate it (measured on outdoor
-  /// seed 1, 200 frames: 0.3 m off at the first registered frame, 300 of 727 static
-  /// landmarks then refused by the fusion gate). The largest consistent set wins instead.
-  /// Off by default: with refit_passes 2 and hold_out_inconsistent_landmarks it fixes outdoor
-  /// seed 1 (200 frames, 16.8 → 0.032 m) but the 60-frame outdoor suite test's clustering
-  /// accuracy fell to 0.895 (< 0.9) [docs/benchmarks.md, "Robust shape initialisation"].
+  /// between the motions; near car points are precise and dominate it (measured on a
+  /// generated outdoor sequence: the first registered frame is off and many static landmarks
+  /// are then refused by the fusion gate). The largest consistent set wins instead.
+  /// Off by default: with refit_passes 2 and hold_out_inconsistent_landmarks it recovers the
+  /// camera on that sequence, but the short outdoor suite test's clustering accuracy fell
+  /// below its threshold [docs/experiments/2026-12-01-robust-shape-initialisation.md].
   /// EstimateMotions applies it, and refit_passes, to the static cluster only.
   bool robust_registration = false;
   /// Squared Mahalanobis distance (3 dof) under which a correspondence supports a hypothesis;

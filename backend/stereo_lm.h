@@ -4,12 +4,12 @@
 // doubles: Eigen quaternion x, y, z, w, then t) and one point (3 doubles).
 //
 // Why not Ceres here [ours, measured]: a warm online window spends most of its time in Ceres'
-// DENSE_SCHUR, and Ceres has no template specialisation for 3-row residuals on 6-dof poses, so
-// it runs its dynamic-size eliminator and locks a mutex per Schur cell
-// (docs/benchmarks.md, "Native dense solver"). With the block sizes fixed at compile time the
-// same step costs a fraction. The step is Ceres' own: LM on the tangent space (rotation
-// perturbed on the left), damping by the Jacobian's column scale, Ceres' trust-region update,
-// and its function-tolerance test, so the two solvers reach the same minimum.
+// DENSE_SCHUR, and Ceres has no template specialisation for 3-row residuals on 6-dof poses, so it
+// runs its dynamic-size eliminator and locks a mutex per Schur cell
+// (docs/experiments/2026-12-01-native-dense-solver.md). With the block sizes fixed at compile time
+// the same step costs a fraction. The step is Ceres' own: LM on the tangent space (rotation
+// perturbed on the left), damping by the Jacobian's column scale, Ceres' trust-region update, and
+// its function-tolerance test, so the two solvers reach the same minimum.
 #include <Eigen/Core>
 #include <vector>
 

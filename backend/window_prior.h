@@ -10,9 +10,9 @@
 // backend relabels its output as usual (0 static, 1..K moving).
 //
 // Moving clusters carry only their labels: their shapes and trajectories are re-initialised
-// from the window's own observations (noise-aware shape initialisation costs < 1 % of a
-// window), because the map's cluster trajectories are stitched from earlier windows and carry
-// their cross-window drift (docs/benchmarks.md, "Online map: merging clusters across windows").
+// from the window's own observations (noise-aware shape initialisation is a small part of a
+// window's time), because the map's cluster trajectories are stitched from earlier windows and
+// carry their cross-window drift (docs/experiments/2026-11-23-online-map-merging-clusters.md).
 #include <Eigen/Core>
 #include <optional>
 #include <vector>

@@ -36,7 +36,8 @@ struct StereoMatcherOptions {
   /// the zero-mean, equal-norm windows along x with cubic interpolation (unbiased on exact
   /// shifts); "parabola" = vertex of the parabola through the three NCC scores around the
   /// peak (pulled towards whole pixels). The default stays "parabola": with "lk" the batch
-  /// backend on KITTI raw 0005 went astray (docs/benchmarks.md, 2026-12-01).
+  /// backend on KITTI raw 0005 went astray
+  /// (docs/experiments/2026-12-01-real-drive-camera-subpixel-disparity-and-offset.md).
   std::string subpixel = "parabola";
   /// Added to every measured disparity, px (u_right is reported that much smaller): corrects
   /// a rectification whose right principal point is off by this much. 0 = trust the

@@ -435,8 +435,8 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
       if (younger == 0) continue;
       // Fewer than 3 points do not fix a rigid body's pose: such a cluster's trajectory can
       // agree with an object's over a few frames by chance, and the merge would then extend
-      // the object with its poses (KITTI raw 0005: a 2-landmark cluster carried the van 10 m
-      // astray for 25 frames; docs/benchmarks.md, "Object pose noise and the motion prior").
+      // the object with its poses (KITTI raw 0005: a 2-landmark cluster carried the van astray;
+      // docs/experiments/2026-12-03-object-pose-noise-and-motion-prior.md).
       if (ids.size() < 3) continue;
       const auto y = clusters_.find(younger);
       if (y == clusters_.end() || y->second.world_from_cluster.empty()) continue;

@@ -61,9 +61,8 @@ struct MapStateOptions {
   /// window to the map at its frame k − 1 and replaces every later frame's pose with the
   /// window's, so a frame ends with the estimate of the window where k − 1 older frames and up
   /// to window − k newer ones constrain it (a fixed-lag smoother). 0 keeps each frame's first
-  /// estimate (it was among the window's newest, least constrained frames): KITTI raw 0005
-  /// online camera ATE 0.989 m with 1 against 1.081 m with 0 (docs/benchmarks.md, "Real-drive
-  /// accuracy").
+  /// estimate (it was among the window's newest, least constrained frames), which gave a worse
+  /// online camera on KITTI raw 0005 (docs/experiments/2026-12-01-real-drive-accuracy.md).
   int refine_camera_from = 1;
   /// A moving cluster is reported as an object (objects/, renders, metrics) only with at least
   /// this many landmarks and poses at this many frames; the landmarks of smaller or shorter

@@ -44,9 +44,8 @@ struct CalibrationOptions {
   /// calibration frames, rad/s (PeakYawRate over spans of yaw_span_s). Why: a
   /// time offset between the left and right exposures shifts every right column by
   /// f·ω·Δt, a disparity offset that follows the yaw rate ω. On KITTI raw 0005 the estimate
-  /// swung from −0.47 to +0.46 px with the turns, ≈ −1.66 px per rad/s (docs/benchmarks.md,
-  /// "The disparity offset follows the yaw rate"); below 0.015 rad/s that is < 0.025 px,
-  /// under min_px.
+  /// swung with the turns (docs/experiments/2026-12-03-disparity-offset-follows-yaw-rate.md);
+  /// below the default limit the bias this leaves is under min_px.
   double disparity_offset_max_yaw_rate = 0.015;
   /// Shortest span, s, the yaw rate is measured over. Not frame to frame: the estimated
   /// motion's per-frame yaw is noisy (KITTI odometry clip_a, driving straight: up to

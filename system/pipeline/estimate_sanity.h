@@ -2,8 +2,10 @@
 // Whether a backend window's estimate is usable: stricter than "every pose is finite". An
 // estimate whose camera jumps, in one frame, farther than anything the stereo pair measured
 // in that window, or many of whose landmarks lie far beyond the measured depth range, came
-// from a diverged solve (measured: Full BA on outdoor seeds 1 and 3 before the shape
-// initialisation's fusion gate — camera steps of 1e16–1e35 m) and must not enter the map. The depth range is the input's own: the largest depth f·b/d over the
+// from a diverged solve (measured: Full BA on generated outdoor sequences before the shape
+// initialisation's fusion gate, with absurd camera steps;
+// docs/experiments/2026-11-23-baselines-divergence-and-0px-noise.md) and must not enter the
+// map. The depth range is the input's own: the largest depth f·b/d over the
 // window's observations with positive disparity d.
 #include <string>
 
@@ -23,9 +25,10 @@ struct EstimateSanityOptions {
   double far_landmark_depths = 10.0;
   /// More than this fraction of absurd landmarks makes the estimate unusable [ours]. Not 0:
   /// a Full BA (or a one-cluster window) legitimately pushes car points that move with the
-  /// camera towards infinity along their rays — measured 5.3–7.7 % of the landmarks on 100
-  /// frames of outdoor seeds 1 and 3 and 7–8 % in 30-frame one-iteration windows of outdoor
-  /// seed 3, with a good camera (docs/benchmarks.md); 0.25 leaves 3× headroom.
+  /// camera towards infinity along their rays — measured on generated outdoor sequences,
+  /// batch and in one-iteration windows, a few percent of the landmarks with a good camera
+  /// (docs/experiments/2026-11-23-baselines-divergence-and-0px-noise.md); 0.25 leaves ample
+  /// headroom.
   double max_far_landmark_fraction = 0.25;
   /// A moving cluster's pose in one frame is absurd when it places the cluster's landmarks
   /// observed there, in the median, more than this × farther from the camera than their own
@@ -53,9 +56,10 @@ EstimateSanity JudgeEstimate(const MotionEstimate& estimate, const TrackletTable
 
 /// Removes from `estimate` the moving-cluster poses that fail max_cluster_depth_ratio, and a
 /// cluster left without poses (its landmarks become unused, -1). Such a pose comes from a solve
-/// that diverged on that frame — measured on generated outdoor seed 4 online: a car's pose
-/// placing its 18 observed points 37 km away where their disparities measure under 50 m, which
-/// the map stitched into a trajectory thousands of metres off — while the rest of the window
+/// that diverged on that frame — measured on a generated outdoor sequence online: a car's pose
+/// placing its observed points far beyond what their disparities measure, which the map
+/// stitched into an absurd trajectory (docs/experiments/2026-12-03-implausible-cluster-poses.md)
+/// — while the rest of the window
 /// is sound, so the window is kept and only those poses go. Returns the poses removed.
 int DropImplausibleClusterPoses(MotionEstimate* estimate, const TrackletTable& table,
                                 const StereoCamera& camera, const EstimateSanityOptions& options);

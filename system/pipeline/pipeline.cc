@@ -404,7 +404,8 @@ PipelineResult RunBatch(const RunInput& input, const PipelineOptions& options,
     warm_options.backend.window_prior.function_tolerance = 0;
     // This also reaches the cold loop when the map's prior is unusable (too few of its
     // windows kept); there the native solver was measured to end on other labellings
-    // (docs/benchmarks.md, "Native profile solver"), a rare case not worth a second stage.
+    // (docs/experiments/2026-12-02-native-profile-solver.md), a rare case not worth a second
+    // stage.
     warm_options.backend.motion.bundle_adjustment.native_sparse_solver =
         options.batch.native_sparse_solver;
   }
@@ -556,7 +557,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
   return out;
 }
 
-// Where a run's time went, per stage (issue 5: the online system's frame rate). In online
+// Where a run's time went, per stage (the online system's frame rate). In online
 // mode the reader, frontend and backend run on their own threads, so these add up to more
 // than the wall time when the stages overlap.
 void LogStageTimes(const PipelineResult& out) {

@@ -31,14 +31,14 @@ struct OnlineOptions {
   /// so the window is the latency that matters; when the two cores are oversubscribed the
   /// kernel then serves the window first, and the others, which only have to keep ahead of it
   /// (or draw what it estimated), catch up while the backend waits for the next window.
-  /// Measured on KITTI raw 0005 (docs/benchmarks.md, "Window latency"): 10 brings the median
-  /// window from 53 to 45 ms wall with the same run time and identical outputs.
+  /// Measured on KITTI raw 0005 (docs/experiments/2026-12-02-window-latency-backend-first.md):
+  /// 10 shortens the median window's wall time with the same run time and identical outputs.
   int background_nice = 10;
   /// [ours] While a window runs, keep the CPU it runs on for it: the reader, the frontend,
   /// the render writer and the window's own helper threads move to the other CPUs, and get
   /// every CPU back between windows (system/runtime/core_reservation.h). Threaded online runs only;
   /// nothing to keep on one CPU. Same outputs. Measured on the demo's sequence
-  /// (docs/benchmarks.md, "A core for the window").
+  /// (docs/experiments/2026-12-03-a-core-for-the-window.md).
   bool reserve_core = true;
   /// Consecutive frames sharing fewer landmarks than this are a tracking break (black or
   /// textureless frames, a jump): no window spans one; the map chains across it as a gap.
@@ -57,10 +57,10 @@ struct OnlineOptions {
 /// run over the tracked sequence first and the whole sequence is then solved from the map they
 /// built (RunClusterSlamWindow with the map's prior over all frames: camera poses, static
 /// labels and positions; moving landmarks start unlabelled and are re-clustered). On by
-/// default since 2026-12-02 (docs/benchmarks.md, "Batch warm start by default"): on outdoor
-/// seeds 1–4 (200 frames) and indoor seeds 1–6 (100 frames) its accuracy and camera ATE are
-/// at least the cold loop's on the means, in a tenth to a third of the CPU, and at full length
-/// the cold loop loses the camera on outdoor seeds 2–3 where this does not. It inherits the
+/// default since 2026-12-02 (docs/experiments/2026-12-02-batch-warm-start-by-default.md): on
+/// the generated indoor and outdoor sequences its accuracy and camera ATE are at least the
+/// cold loop's on the means, in a fraction of the CPU, and at full length the cold loop loses
+/// the camera on outdoor sequences where this does not. It inherits the
 /// online windows' failures: where the first 30-frame window takes the cars for the static
 /// world, so does the batch (cold loop: `warm_start: false`).
 struct BatchOptions {
@@ -73,10 +73,11 @@ struct BatchOptions {
   /// The whole-sequence call's solves of at least sparse_schur_min_poses poses run on the
   /// native profile solver (backend.motion.bundle_adjustment.native_sparse_solver of that
   /// call; the online windows' solves are smaller and unaffected). On here although off for
-  /// the cold loop [measured]: from the map's prior the 200-frame static solve converges in
-  /// ~6 LM iterations to the cost Ceres' sparse normal Cholesky reaches, ~5× faster (outdoor
-  /// seed 4: 7.2 → 1.5 s), and every sequence measured ended on the same labelling; in the
-  /// cold loop the unconverged intermediate solves led to other labellings.
+  /// the cold loop [measured]: from the map's prior the whole-sequence static solve converges
+  /// in a few LM iterations to the cost Ceres' sparse normal Cholesky reaches, several times
+  /// faster, and every sequence measured ended on the same labelling; in the cold loop the
+  /// unconverged intermediate solves led to other labellings
+  /// (docs/experiments/2026-12-02-batch-warm-start-by-default.md).
   bool native_sparse_solver = true;
   void Check() const;
   void Load(OptionsReader& r);
@@ -101,7 +102,7 @@ struct PipelineOptions {
   RunMode mode = RunMode::kOnline;
   /// Threads for the backend's independent solves (each window's moving clusters and static
   /// world side by side; system/runtime/worker_pool.h); 1: one after another. The estimate is the
-  /// same for any value. [ours, measured in docs/benchmarks.md "Window speed"]
+  /// same for any value. [ours, measured in docs/experiments/2026-12-02-window-speed.md]
   int backend_threads = 2;
   InputOptions input;
   FrontendOptions frontend;

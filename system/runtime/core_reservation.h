@@ -1,11 +1,11 @@
 #pragma once
-// A CPU kept for the backend window while it runs (issue 5: window latency on 2 cores).
+// A CPU kept for the backend window while it runs (the window's latency on a 2-core machine).
 //
 // Why not nice values alone: with the reader and the frontend at nice 10, a window on the
-// demo's rendered sequence still took 51–61 ms of wall time for 41–46 ms of its thread's CPU,
+// demo's rendered sequence still took clearly more wall time than its thread's CPU time,
 // because the kernel kept placing the background threads on the window's core. With every
-// other thread moved off that core while the window runs, the window's wall time is its CPU
-// time plus ~3 ms (docs/benchmarks.md, "A core for the window"). Between windows every thread
+// other thread moved off that core while the window runs, the window's wall time is close to
+// its CPU time (docs/experiments/2026-12-03-a-core-for-the-window.md). Between windows every thread
 // may use every CPU again, so the frontend loses nothing while the backend waits.
 #include <sched.h>
 #include <sys/types.h>

@@ -1,5 +1,6 @@
 #pragma once
-// Per-thread CPU share of the online system's stages (issue 5: window latency on 2 cores).
+// Per-thread CPU share of the online system's stages (the backend window's latency on a
+// 2-core machine).
 
 namespace cslam {
 

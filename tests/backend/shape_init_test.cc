@@ -216,7 +216,7 @@ BodySceneSpec MislabelledStaticSpec(bool outdoor) {
 }
 
 TEST(ShapeInit, StaticClusterWithMislabelledMoversFollowsTheCamera) {
-  // The first static cluster of an outdoor run holds the cars too (issue 3). Here 2 moving
+  // The first static cluster of an outdoor run holds the cars too. Here 2 moving
   // bodies of 60 points are labelled static with 250 static points (32 % mislabelled). The
   // plain registration with the fusion gate follows a compromise and then a body; the robust
   // registration with the refit pass recovers the camera trajectory and flags the movers

@@ -1,8 +1,8 @@
-// The native solver on the shape of an online window's static solve (docs/benchmarks.md,
-// "Warm-window profile"): 30 poses, 1 700 points 8–60 m ahead, each seen in a run of 6–14
-// consecutive frames (≈ 17 000 stereo residuals), 1 px noise, a start a few centimetres and
-// milliradians off. Fixed LM iteration counts (the function tolerance is out of reach), so the
-// time per solve is per-iteration cost × iterations; `lm` is the argument.
+// The native solver on the shape of an online window's static solve
+// (docs/experiments/2026-12-02-warm-window-profile.md): 30 poses, 1 700 points 8–60 m ahead, each
+// seen in a run of 6–14 consecutive frames (≈ 17 000 stereo residuals), 1 px noise, a start a few
+// centimetres and milliradians off. Fixed LM iteration counts (the function tolerance is out of
+// reach), so the time per solve is per-iteration cost × iterations; `lm` is the argument.
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>

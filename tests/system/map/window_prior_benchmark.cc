@@ -1,8 +1,8 @@
-// The online backend window warm-started from the map (issue 5: one 30-frame outdoor window
-// ≤ 50 ms median on the 2-core machine). The map comes from replaying the online system's
-// backend loop over the generator's outdoor seed 1 (30-frame windows every 5 frames, each
-// started from the map the earlier ones built, then integrated), which is what
-// system/pipeline/pipeline.cc does on its backend thread:
+// The online backend window warm-started from the map (the target: one 30-frame outdoor
+// window ≤ 50 ms median on the 2-core machine, docs/benchmarks.md). The map comes from
+// replaying the online system's backend loop over the generator's outdoor seed 1 (30-frame
+// windows every 5 frames, each started from the map the earlier ones built, then integrated),
+// which is what system/pipeline/pipeline.cc does on its backend thread:
 //  - BM_WarmWindow: the window [100, 130) only, started from the map of the windows before it;
 //    repeated, so Google Benchmark's statistics apply;
 //  - BM_OnlineWindows: every window of the first N frames, warm (1) or cold (0), reporting

@@ -137,7 +137,7 @@ TEST(WarmStart, GivesTheColdStartsLabelsAndCameraWithFewerIterations) {
 // exactly, and within one window holding them costs nothing in accuracy against the
 // generator's truth — the labels and the camera (including the 5 new frames) are as good as
 // with every pose adjusted. (Over a whole run the held poses drift more outdoors, which is why
-// the option is off by default: docs/benchmarks.md, "Faster warm windows".)
+// the option is off by default: docs/experiments/2026-12-01-faster-warm-windows.md.)
 TEST(WarmStart, KnownPosesHeldFixedStayTheMapsAndKeepTheAccuracy) {
   const Fixture& f = Outdoor();
   const std::optional<WindowPrior> prior = WindowPriorFromMap(f.map, f.table, kWindow);

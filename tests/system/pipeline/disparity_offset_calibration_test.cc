@@ -102,7 +102,8 @@ TEST(DisparityOffsetCalibrator, LeavesTheObservationsAloneWhenThereIsNoOffset) {
 
 // A turn with a left/right exposure offset Δt: every right column moves by f·ω·Δt while the
 // camera turns at ω, which the estimator cannot tell from a disparity offset of the pair. Here
-// ω = 0.1 rad/s and Δt = 2.3 ms (what KITTI raw 0005 shows, docs/benchmarks.md): 0.17 px
+// ω = 0.1 rad/s and Δt = 2.3 ms (what KITTI raw 0005 shows,
+// docs/experiments/2026-12-03-disparity-offset-follows-yaw-rate.md): 0.17 px
 // that would be applied to every later frame, turning or not.
 TEST(DisparityOffsetCalibrator, DoesNotEstimateWhileTheCameraTurns) {
   const double shift = testing::SyntheticCamera(true).fx * 0.1 * 0.0023;

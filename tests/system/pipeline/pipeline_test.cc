@@ -144,9 +144,10 @@ TEST(Pipeline, AStopRequestBeforeTheFirstFrameEndsWithNothingProcessed) {
 
 TEST(Pipeline, BatchModeGivesEveryFrameAPoseNearTheTruth) {
   // Without the image prior the static background stays one cluster on this scene (with the
-  // paper's α it splits: docs/benchmarks.md), so the camera is solved against the world.
+  // paper's α it splits: docs/experiments/2026-11-23-backend-with-model-assignment.md), so
+  // the camera is solved against the world.
   // The cold loop on purpose: the online windows, and so the warm start built on them, take
-  // this scene's cars for the static world (measured: warm camera error 25.6 m).
+  // this scene's cars for the static world (measured: the warm camera error is tens of metres).
   const RunInput in = SmallSyntheticInput(1.0);
   PipelineOptions o = OnlineOptionsFor(true);
   o.mode = RunMode::kBatch;

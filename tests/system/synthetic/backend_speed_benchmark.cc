@@ -1,4 +1,5 @@
-// The ClusterSLAM backend on the generator's sequences (issues 3 and 5 speed targets):
+// The ClusterSLAM backend on the generator's sequences (the batch and window speed targets,
+// docs/benchmarks.md):
 //  - BM_EstimateMotionsTrueLabels: one estimation (shape initialisation + decoupled bundle
 //    adjustment) over the first N frames with the ground-truth labels — the unit of work the
 //    outer loop repeats — with the default options or a solver variant (function tolerance,

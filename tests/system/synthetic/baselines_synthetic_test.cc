@@ -2,7 +2,8 @@
 // generator's outdoor sequences, against its ground truth. Both treat the moving cars as
 // static, so their camera trajectories are biased — but they must stay finite and sane.
 // Without the shape initialisation's fusion gate (ShapeInitOptions::baseline_fusion_gate_chi2 = 0)
-// every case below diverged: camera steps of 1e16–1e35 m (docs/benchmarks.md).
+// every case below diverged to absurd camera steps
+// (docs/experiments/2026-11-23-baselines-divergence-and-0px-noise.md).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -110,7 +110,8 @@ TEST(ClusterSlamSynthetic, IndoorSequenceIsClusteredAndEveryMovingObjectFound) {
 
 TEST(ClusterSlamSynthetic, PaperLoopWithoutModelAssignmentFallsShortOnTheSameSequence) {
   // Pins why the model assignment exists: the reconstructed Eq. 1 + HAC loop alone, with the
-  // paper's α, does not separate the cars on this sequence (docs/benchmarks.md).
+  // paper's α, does not separate the cars on this sequence
+  // (docs/experiments/2026-11-23-backend-with-model-assignment.md).
   const SyntheticSequence seq = Generate("outdoor", 1, 0);
   const FrameRange range{0, 60};
   ClusterSlamOptions paper = ClusterSlamOptions::Outdoor();

@@ -1,7 +1,8 @@
 // ClusterSLAM on the synthetic generator's sequences at 0 px keypoint noise: the generator
 // then writes 1e-12 px² covariances, and without the backend's covariance floor
 // (ClusterSlamOptions::min_pixel_sigma) every χ² test fails — no cluster at all, accuracy 0
-// (docs/benchmarks.md). Exact measurements must give at least the noisy result.
+// (docs/experiments/2026-11-23-baselines-divergence-and-0px-noise.md). Exact measurements
+// must give at least the noisy result.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
