@@ -83,30 +83,36 @@ void ForEachDataLine(const std::string& file, RowFn row) {
   }
 }
 
+// The frame indices of `file`, and the line of its last one in *last_line.
+std::vector<int> ReadFrameIndexLines(const std::string& file, int* last_line) {
+  std::vector<int> frames;
+  ForEachDataLine(file, [&](const std::vector<std::string>& fields, int line) {
+    if (last_line != nullptr) *last_line = line;
+    if (fields.size() != 1) {
+      throw InputError(file, line, "expected one frame index per line");
+    }
+    int frame = 0;
+    const char* end = fields[0].data() + fields[0].size();
+    const auto [ptr, err] = std::from_chars(fields[0].data(), end, frame);
+    if (err != std::errc() || ptr != end || frame < 0) {
+      throw InputError(file, line, "expected a non-negative integer frame index");
+    }
+    if (!frames.empty() && frame <= frames.back()) {
+      throw InputError(file, line, "expected increasing frame indices");
+    }
+    frames.push_back(frame);
+  });
+  return frames;
+}
+
 void ReadFrameIndexFile(const std::string& file, Trajectory& trajectory) {
   const std::string index_file = FrameIndexPathFor(file);
   std::error_code ec;
   if (!std::filesystem::exists(index_file, ec)) {
     return;
   }
-  std::vector<int> frames;
   int last_line = 0;
-  ForEachDataLine(index_file, [&](const std::vector<std::string>& fields, int line) {
-    last_line = line;
-    if (fields.size() != 1) {
-      throw InputError(index_file, line, "expected one frame index per line");
-    }
-    int frame = 0;
-    const char* end = fields[0].data() + fields[0].size();
-    const auto [ptr, err] = std::from_chars(fields[0].data(), end, frame);
-    if (err != std::errc() || ptr != end || frame < 0) {
-      throw InputError(index_file, line, "expected a non-negative integer frame index");
-    }
-    if (!frames.empty() && frame <= frames.back()) {
-      throw InputError(index_file, line, "expected increasing frame indices");
-    }
-    frames.push_back(frame);
-  });
+  std::vector<int> frames = ReadFrameIndexLines(index_file, &last_line);
   if (frames.size() != trajectory.size()) {
     throw InputError(index_file, last_line,
                      "expected " + std::to_string(trajectory.size()) +
@@ -122,6 +128,8 @@ std::string FrameIndexPathFor(const std::string& file) {
   const std::filesystem::path p(file);
   return (p.parent_path() / (p.stem().string() + "_frames.txt")).string();
 }
+
+std::vector<int> ReadFrameIndices(const std::string& file) { return ReadFrameIndexLines(file, nullptr); }
 
 const char* TrajectoryFormatName(TrajectoryFormat format) {
   return format == TrajectoryFormat::kKitti ? "kitti" : "tum";

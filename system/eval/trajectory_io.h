@@ -32,6 +32,11 @@ void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
 /// beside it ("objects/3.txt" → "objects/3_frames.txt"); '#' lines in it are comments.
 std::string FrameIndexPathFor(const std::string& file);
 
+/// Reads a frame index list (such a side file, or a list given beside another system's
+/// trajectory): one non-negative, increasing integer per data line. Throws InputError naming
+/// the file and line.
+std::vector<int> ReadFrameIndices(const std::string& file);
+
 /// KITTI when the first data line has 12 fields, TUM when it has 8; otherwise throws
 /// InputError naming the line.
 TrajectoryFormat GuessTrajectoryFormat(const std::string& file);

@@ -2,31 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include "system/render/line_chart.h"
 
 namespace cslam {
-
-namespace {
-
-double NiceBarStep(double range, int target) {
-  if (!(range > 0)) return 1.0;
-  const double raw = range / target;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  const double norm = raw / mag;
-  return (norm < 1.5 ? 1 : norm < 3 ? 2 : norm < 7 ? 5 : 10) * mag;
-}
-
-std::string Tick(double v, double step) {
-  char buf[32];
-  const int decimals = step >= 1 ? 0 : std::min(6, static_cast<int>(std::ceil(-std::log10(step))));
-  std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
-  return buf;
-}
-
-}  // namespace
 
 cv::Mat RenderBarChart(const BarChart& chart, int width, int height) {
   cv::Mat img(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
@@ -41,7 +21,7 @@ cv::Mat RenderBarChart(const BarChart& chart, int width, int height) {
       if (v && std::isfinite(*v)) y1 = std::max(y1, *v);
   if (std::isfinite(chart.y_max)) y1 = chart.y_max;
   if (!(y1 > 0)) y1 = 1;
-  const double ys = NiceBarStep(y1, 6);
+  const double ys = NiceTickStep(y1, 6);
   y1 = std::ceil(y1 / ys) * ys;
   auto to_y = [&](double y) {
     return plot.y + plot.height - static_cast<int>(std::lround(std::min(y, y1) / y1 * plot.height));
@@ -49,7 +29,7 @@ cv::Mat RenderBarChart(const BarChart& chart, int width, int height) {
   for (double y = 0; y <= y1 + 1e-9 * ys; y += ys) {
     const int py = to_y(y);
     cv::line(img, {plot.x, py}, {plot.x + plot.width, py}, grid, 1, cv::LINE_AA);
-    const std::string t = Tick(y, ys);
+    const std::string t = FormatTick(y, ys);
     cv::putText(img, t, {plot.x - 10 - 9 * static_cast<int>(t.size()), py + 5}, font, 0.45, ink, 1,
                 cv::LINE_AA);
   }

@@ -8,10 +8,7 @@
 
 namespace cslam {
 
-namespace {
-
-// "Nice" tick step (1, 2 or 5 × 10^k) giving about `target` ticks over `range`.
-double NiceStep(double range, int target) {
+double NiceTickStep(double range, int target) {
   if (!(range > 0)) return 1.0;
   const double raw = range / target;
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
@@ -20,14 +17,12 @@ double NiceStep(double range, int target) {
   return nice * mag;
 }
 
-std::string Format(double v, double step) {
+std::string FormatTick(double v, double step) {
   char buf[32];
   const int decimals = step >= 1 ? 0 : std::min(6, static_cast<int>(std::ceil(-std::log10(step))));
   std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
   return buf;
 }
-
-}  // namespace
 
 cv::Scalar SeriesColor(int k) {
   static const cv::Scalar kColors[] = {{180, 119, 31}, {14, 127, 255}, {44, 160, 44},
@@ -67,18 +62,18 @@ cv::Mat RenderLineChart(const LineChart& chart, int width, int height) {
   const cv::Scalar grid(225, 225, 225), ink(40, 40, 40);
   const int font = cv::FONT_HERSHEY_SIMPLEX;
 
-  const double xs = NiceStep(x1 - x0, 8), ys = NiceStep(y1 - y0, 6);
+  const double xs = NiceTickStep(x1 - x0, 8), ys = NiceTickStep(y1 - y0, 6);
   for (double x = std::ceil(x0 / xs) * xs; x <= x1 + 1e-9 * xs; x += xs) {
     const cv::Point p = to_px(x, y0);
     cv::line(img, {p.x, plot.y}, {p.x, plot.y + plot.height}, grid, 1, cv::LINE_AA);
-    const std::string t = Format(x, xs);
+    const std::string t = FormatTick(x, xs);
     cv::putText(img, t, {p.x - 4 * static_cast<int>(t.size()), plot.y + plot.height + 22}, font,
                 0.45, ink, 1, cv::LINE_AA);
   }
   for (double y = std::ceil(y0 / ys) * ys; y <= y1 + 1e-9 * ys; y += ys) {
     const cv::Point p = to_px(x0, y);
     cv::line(img, {plot.x, p.y}, {plot.x + plot.width, p.y}, grid, 1, cv::LINE_AA);
-    const std::string t = Format(y, ys);
+    const std::string t = FormatTick(y, ys);
     cv::putText(img, t, {plot.x - 10 - 9 * static_cast<int>(t.size()), p.y + 5}, font, 0.45, ink,
                 1, cv::LINE_AA);
   }

@@ -26,6 +26,12 @@ struct LineChart {
 /// Renders `chart` into a BGR image of the given size.
 cv::Mat RenderLineChart(const LineChart& chart, int width = 900, int height = 600);
 
+/// A "nice" tick step (1, 2 or 5 × 10^k) giving about `target` ticks over `range`.
+double NiceTickStep(double range, int target);
+
+/// A tick label for `v` with as many decimals as `step` needs.
+std::string FormatTick(double v, double step);
+
 /// A distinct colour for series k (BGR).
 cv::Scalar SeriesColor(int k);
 

@@ -1,9 +1,6 @@
 #include "system/run/external_trajectory.h"
 
-#include <charconv>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "core/errors.h"
 #include "system/eval/trajectory_evaluation.h"
@@ -14,32 +11,6 @@
 namespace cslam {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// One non-negative, increasing frame index per data line ('#' lines and blank lines skipped).
-std::vector<int> ReadFramesList(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file, "cannot open the frames list");
-  std::vector<int> frames;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    std::istringstream s(line);
-    std::string field, extra;
-    if (!(s >> field) || field[0] == '#') continue;
-    int f = 0;
-    const char* end = field.data() + field.size();
-    const auto [ptr, err] = std::from_chars(field.data(), end, f);
-    if (err != std::errc() || ptr != end || f < 0 || (s >> extra))
-      throw InputError(file, n, "expected one non-negative integer frame index per line");
-    if (!frames.empty() && f <= frames.back())
-      throw InputError(file, n, "expected increasing frame indices");
-    frames.push_back(f);
-  }
-  return frames;
-}
-
-}  // namespace
 
 void ExternalTrajectoryOptions::Check() const {
   if (input.empty()) throw ConfigError("external trajectory: no input named for its ground truth");
@@ -81,7 +52,7 @@ Trajectory ReadExternalTrajectory(const ExternalTrajectoryOptions& options, cons
   } else {
     const bool side_file = fs::exists(FrameIndexPathFor(options.trajectory));
     if (!options.frames.empty()) {
-      std::vector<int> frames = ReadFramesList(options.frames);
+      std::vector<int> frames = ReadFrameIndices(options.frames);
       if (frames.size() != est.size())
         throw InputError(options.frames, "lists " + std::to_string(frames.size()) +
                                              " frames but " + options.trajectory + " has " +

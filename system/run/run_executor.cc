@@ -11,6 +11,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <thread>
@@ -67,11 +68,27 @@ pid_t Spawn(const RunTask& task, const std::string& log, std::string* why) {
 
 }  // namespace
 
-std::optional<int> ReadCompletionMarker(const std::string& dir) {
+std::optional<CompletionMarker> ReadCompletionMarker(const std::string& dir) {
   std::ifstream in(fs::path(dir) / "exit_code");
-  int code = 0;
-  if (!(in >> code)) return std::nullopt;
-  return code;
+  CompletionMarker marker;
+  if (!(in >> marker.exit_code)) return std::nullopt;
+  in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  std::getline(in, marker.reason);
+  return marker;
+}
+
+std::vector<const RunTask*> TasksToRun(const std::vector<RunTask>& tasks, SuiteProgress* progress) {
+  std::vector<const RunTask*> pending;
+  for (const RunTask& t : tasks) {
+    if (const auto marker = ReadCompletionMarker(t.dir)) {
+      ++progress->done;
+      ++progress->skipped;
+      progress->failed += marker->exit_code != 0;
+    } else {
+      pending.push_back(&t);
+    }
+  }
+  return pending;
 }
 
 void WriteCompletionMarker(const std::string& dir, int exit_code, const std::string& reason) {
@@ -117,16 +134,7 @@ void RunLocally(const std::vector<RunTask>& tasks, const LocalExecutorOptions& o
   const Timer timer;
   SuiteProgress progress;
   progress.total = static_cast<int>(tasks.size());
-  std::vector<const RunTask*> pending;
-  for (const RunTask& t : tasks) {
-    if (const auto code = ReadCompletionMarker(t.dir)) {
-      ++progress.done;
-      ++progress.skipped;
-      progress.failed += *code != 0;
-    } else {
-      pending.push_back(&t);
-    }
-  }
+  const std::vector<const RunTask*> pending = TasksToRun(tasks, &progress);
   std::map<pid_t, const RunTask*> running;
   double finished_run_s = 0.0;
   int finished_runs = 0;

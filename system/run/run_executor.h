@@ -20,9 +20,16 @@ struct RunTask {
   std::vector<std::string> argv;  ///< argv[0] is the program path
 };
 
-/// Reads DIR/exit_code: the child's exit code (128 + signal when it was killed), or empty
-/// when the marker is missing or unreadable (the task is not complete).
-std::optional<int> ReadCompletionMarker(const std::string& dir);
+/// A complete task's DIR/exit_code: the child's exit code (128 + signal when it was killed) and
+/// the executor's reason line, if it wrote one (a signal, a Slurm state, why it could not start).
+struct CompletionMarker {
+  int exit_code = 0;
+  std::string reason;
+};
+
+/// Reads DIR/exit_code, or empty when the marker is missing or unreadable (the task is not
+/// complete).
+std::optional<CompletionMarker> ReadCompletionMarker(const std::string& dir);
 
 /// Writes DIR/exit_code atomically: "<code>\n" then an optional reason line.
 void WriteCompletionMarker(const std::string& dir, int exit_code, const std::string& reason = "");
@@ -41,6 +48,10 @@ struct SuiteProgress {
   /// "runs 3/10 done (1 skipped), 2 running, 1 failed, 41 s, ETA 1 min 20 s"
   std::string Line() const;
 };
+
+/// The tasks whose completion marker is missing, in order; the complete ones count into
+/// `progress` as done and skipped (and failed when their exit code is not 0).
+std::vector<const RunTask*> TasksToRun(const std::vector<RunTask>& tasks, SuiteProgress* progress);
 
 /// How the local executor runs its tasks.
 struct LocalExecutorOptions {

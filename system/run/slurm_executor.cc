@@ -112,15 +112,18 @@ std::string RunOnSlurm(const std::vector<RunTask>& tasks, const SlurmExecutorOpt
   const Timer timer;
   SuiteProgress progress;
   progress.total = static_cast<int>(tasks.size());
-  std::vector<const RunTask*> pending;
-  for (const RunTask& t : tasks)
-    if (const auto code = ReadCompletionMarker(t.dir)) {
-      ++progress.done;
-      ++progress.skipped;
-      progress.failed += *code != 0;
-    } else {
-      pending.push_back(&t);
-    }
+  const std::vector<const RunTask*> pending = TasksToRun(tasks, &progress);
+  // The submitted tasks that have ended so far, by their markers.
+  auto count_ended = [&] {
+    int done = 0, failed = 0;
+    for (const RunTask* t : pending)
+      if (const auto marker = ReadCompletionMarker(t->dir)) {
+        ++done;
+        failed += marker->exit_code != 0;
+      }
+    progress.done = progress.skipped + done;
+    progress.failed = failed;
+  };
   auto report = [&] {
     progress.elapsed_s = timer.ElapsedS();
     if (on_progress) on_progress(progress);
@@ -159,14 +162,7 @@ std::string RunOnSlurm(const std::vector<RunTask>& tasks, const SlurmExecutorOpt
       }
       cancelled = true;
     }
-    int done = 0, failed = 0;
-    for (const RunTask* t : pending)
-      if (const auto code = ReadCompletionMarker(t->dir)) {
-        ++done;
-        failed += *code != 0;
-      }
-    progress.done = progress.skipped + done;
-    progress.failed = failed;
+    count_ended();
     int st = 0;
     const std::string listed =
         squeue.empty() ? "" : Trim(Capture(Quote(squeue) + " -h -o %i -j " + Quote(job), &st));
@@ -207,14 +203,7 @@ std::string RunOnSlurm(const std::vector<RunTask>& tasks, const SlurmExecutorOpt
       }
     }
   }
-  int done = 0, failed = 0;
-  for (const RunTask* t : pending)
-    if (const auto code = ReadCompletionMarker(t->dir)) {
-      ++done;
-      failed += *code != 0;
-    }
-  progress.done = progress.skipped + done;
-  progress.failed = failed;
+  count_ended();
   progress.running = 0;
   report();
   return job;

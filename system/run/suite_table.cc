@@ -69,11 +69,12 @@ SuiteRow CollectRunRow(const SuiteRun& run, const std::string& runs_dir) {
   row.drive = run.drive;
   row.system = run.system;
   const std::string dir = (fs::path(runs_dir) / run.id).string();
-  row.exit_code = ReadCompletionMarker(dir);
-  if (!row.exit_code) {
+  const std::optional<CompletionMarker> marker = ReadCompletionMarker(dir);
+  if (!marker) {
     row.status = "incomplete";
     return row;
   }
+  row.exit_code = marker->exit_code;
   const std::string metrics_file = (fs::path(dir) / "metrics.json").string();
   if (fs::exists(metrics_file)) {
     try {
@@ -89,14 +90,9 @@ SuiteRow CollectRunRow(const SuiteRun& run, const std::string& runs_dir) {
   }
   row.status = "failed";
   row.log_tail = FileTail(ConsoleLogPath(dir), 12);
-  // The marker's second line is the executor's reason (a signal, a Slurm state).
-  std::ifstream marker(fs::path(dir) / "exit_code");
-  std::string first, reason;
-  std::getline(marker, first);
-  std::getline(marker, reason);
   if (row.error.empty()) {
     row.error = "exit code " + std::to_string(*row.exit_code);
-    if (!reason.empty()) row.error += ", " + reason;
+    if (!marker->reason.empty()) row.error += ", " + marker->reason;
     else if (*row.exit_code == 0) row.error += " but no metrics.json";
     const std::string line = ErrorLine(row.log_tail);
     if (!line.empty()) row.error += ": " + line;
