@@ -113,6 +113,51 @@ inline bool Later(const HeapEntry& x, const HeapEntry& y) {
   return x.a > y.a;
 }
 
+// Each cluster's recorded nearest neighbour and the heap of those within ε, with lazy
+// deletion: an entry is stale once its cluster merged away or was rescanned since.
+class NearestNeighbourHeap {
+ public:
+  explicit NearestNeighbourHeap(int n, double eps) : nn_(n, -1), nn_d_(n, 0.0), eps_(eps) {}
+  void Record(int a, int best, double best_d) {
+    nn_[a] = best;
+    nn_d_[a] = best_d;
+    if (best >= 0 && best_d <= eps_) {
+      heap_.push_back({best_d, a});
+      std::push_heap(heap_.begin(), heap_.end(), Later);
+    }
+  }
+  // The smallest entry that is still current, or false when none is left.
+  bool Pop(const std::vector<char>& active, HeapEntry* top) {
+    while (!heap_.empty()) {
+      std::pop_heap(heap_.begin(), heap_.end(), Later);
+      *top = heap_.back();
+      heap_.pop_back();
+      if (active[top->a] && top->d == nn_d_[top->a]) return true;
+    }
+    return false;
+  }
+  int neighbour(int a) const { return nn_[a]; }
+
+ private:
+  std::vector<int> nn_;
+  std::vector<double> nn_d_;
+  std::vector<HeapEntry> heap_;
+  double eps_;
+};
+
+// Every item starts as its own cluster, all active.
+struct MergeForest {
+  explicit MergeForest(int n) : parent(n), active(n, 1) {
+    for (int i = 0; i < n; ++i) parent[i] = i;
+  }
+  void Absorb(int keep, int gone) {
+    active[gone] = 0;
+    parent[gone] = keep;
+  }
+  std::vector<int> parent;  // merged item → the cluster that absorbed it
+  std::vector<char> active;
+};
+
 // Dense engine for small n: the same algorithm on an n×n array (NaN = undefined), where a
 // merge is two linear passes instead of hash updates.
 std::vector<int> DenseHac(const SparseDistances& distances, double eps) {
@@ -126,34 +171,22 @@ std::vector<int> DenseHac(const SparseDistances& distances, double eps) {
     v = std::isnan(v) ? e.d : std::max(v, e.d);
     at(e.b, e.a) = v;
   }
-  std::vector<int> nn(n, -1);
-  std::vector<double> nn_d(n, 0.0);
-  std::vector<HeapEntry> heap;
+  NearestNeighbourHeap heap(n, eps);
   auto rescan = [&](int a) {
     int best = -1;
     double best_d = 0;
     const double* row = &dm[static_cast<size_t>(a) * n];
     for (int b = 0; b < n; ++b)
       if (!std::isnan(row[b]) && (best < 0 || row[b] < best_d)) best = b, best_d = row[b];
-    nn[a] = best;
-    nn_d[a] = best_d;
-    if (best >= 0 && best_d <= eps) {
-      heap.push_back({best_d, a});
-      std::push_heap(heap.begin(), heap.end(), Later);
-    }
+    heap.Record(a, best, best_d);
   };
   for (int a = 0; a < n; ++a) rescan(a);
-  std::vector<int> parent(n);
-  for (int i = 0; i < n; ++i) parent[i] = i;
-  std::vector<char> active(n, 1);
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), Later);
-    const HeapEntry top = heap.back();
-    heap.pop_back();
+  MergeForest forest(n);
+  HeapEntry top;
+  while (heap.Pop(forest.active, &top)) {
     const int a = top.a;
-    if (!active[a] || top.d != nn_d[a]) continue;
-    const int b = nn[a];
-    if (b < 0 || !active[b] || at(a, b) != top.d) {
+    const int b = heap.neighbour(a);
+    if (b < 0 || !forest.active[b] || at(a, b) != top.d) {
       rescan(a);
       continue;
     }
@@ -167,11 +200,10 @@ std::vector<int> DenseHac(const SparseDistances& distances, double eps) {
       at(c, gone) = kNone;
     }
     row_keep[gone] = kNone;
-    active[gone] = 0;
-    parent[gone] = keep;
+    forest.Absorb(keep, gone);
     rescan(keep);
   }
-  return parent;
+  return forest.parent;
 }
 
 std::vector<int> SparseHac(const SparseDistances& distances, double eps) {
@@ -197,38 +229,23 @@ std::vector<int> SparseHac(const SparseDistances& distances, double eps) {
   // grow — d(A∪B, C) >= d(A,C), d(B,C), and a new neighbour A∪B of C replaces B at a value
   // >= d(B,C). An entry is trusted only when its recorded neighbour still has that exact
   // linkage; otherwise the row is rescanned. Rows above ε never enter the heap.
-  std::vector<int> nn(n, -1);
-  std::vector<double> nn_d(n, 0.0);
-  std::vector<HeapEntry> heap;
+  NearestNeighbourHeap heap(n, eps);
   auto rescan = [&](int a) {
     int best = -1;
     double best_d = 0;
     rows[a].ForEach([&](int b, double d) {
       if (best < 0 || d < best_d || (d == best_d && b < best)) best = b, best_d = d;
     });
-    nn[a] = best;
-    nn_d[a] = best_d;
-    if (best >= 0 && best_d <= eps) {
-      heap.push_back({best_d, a});
-      std::push_heap(heap.begin(), heap.end(), Later);
-    }
+    heap.Record(a, best, best_d);
   };
-  for (int a = 0; a < n; ++a) {
-    rescan(a);
-  }
+  for (int a = 0; a < n; ++a) rescan(a);
 
-  std::vector<int> parent(n);  // merged item → the cluster that absorbed it
-  for (int i = 0; i < n; ++i) parent[i] = i;
-  std::vector<char> active(n, 1);
-
-  while (!heap.empty()) {
-    std::pop_heap(heap.begin(), heap.end(), Later);
-    const HeapEntry top = heap.back();
-    heap.pop_back();
+  MergeForest forest(n);
+  HeapEntry top;
+  while (heap.Pop(forest.active, &top)) {
     const int a = top.a;
-    if (!active[a] || top.d != nn_d[a]) continue;  // superseded entry
-    const int b = nn[a];
-    const double* current = b >= 0 && active[b] ? rows[a].Find(b) : nullptr;
+    const int b = heap.neighbour(a);
+    const double* current = b >= 0 && forest.active[b] ? rows[a].Find(b) : nullptr;
     if (!current || *current != top.d) {
       rescan(a);  // the neighbour merged or moved away: refresh the bound
       continue;
@@ -252,11 +269,10 @@ std::vector<int> SparseHac(const SparseDistances& distances, double eps) {
     });
     rows[keep].Erase(gone);
     rows[gone].Clear();
-    active[gone] = 0;
-    parent[gone] = keep;
+    forest.Absorb(keep, gone);
     rescan(keep);
   }
-  return parent;
+  return forest.parent;
 }
 
 }  // namespace

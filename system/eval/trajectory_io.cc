@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <sstream>
 #include <system_error>
@@ -244,28 +245,22 @@ void WriteTrajectory(const Trajectory& trajectory, const std::string& file,
 }
 
 TrajectoryFormat GuessTrajectoryFormat(const std::string& file) {
-  std::ifstream in(file);
-  if (!in) {
-    throw InputError(file, "cannot open the trajectory file");
-  }
-  std::string line;
-  int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (!IsDataLine(line)) {
-      continue;
+  // The first data line decides; the rest of the file is read by whoever loads it.
+  std::optional<TrajectoryFormat> format;
+  ForEachDataLine(file, [&](const std::vector<std::string>& fields, int line) {
+    if (format) return;
+    if (fields.size() == 12) {
+      format = TrajectoryFormat::kKitti;
+    } else if (fields.size() == 8) {
+      format = TrajectoryFormat::kTum;
+    } else {
+      throw InputError(file, line,
+                       "expected 12 fields (KITTI) or 8 fields (TUM), got " +
+                           std::to_string(fields.size()));
     }
-    const size_t n = SplitFields(line).size();
-    if (n == 12) {
-      return TrajectoryFormat::kKitti;
-    }
-    if (n == 8) {
-      return TrajectoryFormat::kTum;
-    }
-    throw InputError(file, line_number,
-                     "expected 12 fields (KITTI) or 8 fields (TUM), got " + std::to_string(n));
-  }
-  throw InputError(file, "expected at least one pose line, the file has none");
+  });
+  if (!format) throw InputError(file, "expected at least one pose line, the file has none");
+  return *format;
 }
 
 }  // namespace cslam
