@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "core/enum_names.h"
 #include "core/options_reader.h"
 #include "core/task_runner.h"
 
@@ -21,19 +22,19 @@ enum class SparseSolver { kNormalCholesky, kSchur, kIterativeSchur };
 /// The sparse factorisation library of the direct sparse solvers.
 enum class SparseLibrary { kSuiteSparse, kEigen };
 
-/// "normal_cholesky" / "schur" / "iterative_schur"; ParseSparseSolver throws ConfigError
-/// naming `key` otherwise.
-std::string ToString(SparseSolver solver);
-SparseSolver ParseSparseSolver(const std::string& text, const std::string& key);
-/// "suite_sparse" / "eigen".
-std::string ToString(SparseLibrary library);
-SparseLibrary ParseSparseLibrary(const std::string& text, const std::string& key);
-/// "none" / "huber" / "dcs"; ParseRobustKernel throws ConfigError naming `key` otherwise.
-std::string ToString(RobustKernel kernel);
-RobustKernel ParseRobustKernel(const std::string& text, const std::string& key);
-/// "decoupled" / "semi_coupled" / "fully_coupled".
-std::string ToString(BaCoupling coupling);
-BaCoupling ParseBaCoupling(const std::string& text, const std::string& key);
+/// The spelling of each enum in configs (core/enum_names.h).
+inline constexpr EnumName<SparseSolver> kSparseSolverNames[] = {
+    {SparseSolver::kNormalCholesky, "normal_cholesky"},
+    {SparseSolver::kSchur, "schur"},
+    {SparseSolver::kIterativeSchur, "iterative_schur"}};
+inline constexpr EnumName<SparseLibrary> kSparseLibraryNames[] = {
+    {SparseLibrary::kSuiteSparse, "suite_sparse"}, {SparseLibrary::kEigen, "eigen"}};
+inline constexpr EnumName<RobustKernel> kRobustKernelNames[] = {
+    {RobustKernel::kNone, "none"}, {RobustKernel::kHuber, "huber"}, {RobustKernel::kDcs, "dcs"}};
+inline constexpr EnumName<BaCoupling> kBaCouplingNames[] = {
+    {BaCoupling::kDecoupled, "decoupled"},
+    {BaCoupling::kSemiCoupled, "semi_coupled"},
+    {BaCoupling::kFullyCoupled, "fully_coupled"}};
 
 /// Parameters of the bundle adjustment.
 struct BundleAdjustmentOptions {

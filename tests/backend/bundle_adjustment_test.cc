@@ -370,9 +370,10 @@ TEST(BundleAdjustment, FarPointsWithoutDisparityKeepAnOffsetFromScalingTheCamera
 }
 
 TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
-  EXPECT_EQ(ParseRobustKernel("dcs", "k"), RobustKernel::kDcs);
-  EXPECT_EQ(ParseBaCoupling(ToString(BaCoupling::kSemiCoupled), "k"), BaCoupling::kSemiCoupled);
-  EXPECT_THROW(ParseRobustKernel("cauchy", "k"), ConfigError);
+  EXPECT_EQ(ParseEnum(kRobustKernelNames, "dcs", "k"), RobustKernel::kDcs);
+  EXPECT_EQ(ParseEnum(kBaCouplingNames, NameOf(kBaCouplingNames, BaCoupling::kSemiCoupled), "k"),
+            BaCoupling::kSemiCoupled);
+  EXPECT_THROW(ParseEnum(kRobustKernelNames, "cauchy", "k"), ConfigError);
   auto reader = OptionsReader::FromString(
       "coupling: fully_coupled\nrobust_kernel: none\nmax_iterations: 7\n", "t");
   BundleAdjustmentOptions o;
@@ -380,11 +381,23 @@ TEST(BundleAdjustment, EnumsParseAndOptionsLoad) {
   EXPECT_EQ(o.coupling, BaCoupling::kFullyCoupled);
   EXPECT_EQ(o.robust_kernel, RobustKernel::kNone);
   EXPECT_EQ(o.max_iterations, 7);
-  EXPECT_EQ(ParseSparseSolver(ToString(SparseSolver::kIterativeSchur), "k"),
+  EXPECT_EQ(ParseEnum(kSparseSolverNames,
+                      NameOf(kSparseSolverNames, SparseSolver::kIterativeSchur), "k"),
             SparseSolver::kIterativeSchur);
-  EXPECT_EQ(ParseSparseLibrary(ToString(SparseLibrary::kEigen), "k"), SparseLibrary::kEigen);
-  EXPECT_THROW(ParseSparseSolver("cgnr", "k"), ConfigError);
-  EXPECT_THROW(ParseSparseLibrary("cxsparse", "k"), ConfigError);
+  EXPECT_EQ(ParseEnum(kSparseLibraryNames, NameOf(kSparseLibraryNames, SparseLibrary::kEigen), "k"),
+            SparseLibrary::kEigen);
+  EXPECT_THROW(ParseEnum(kSparseSolverNames, "cgnr", "k"), ConfigError);
+  EXPECT_THROW(ParseEnum(kSparseLibraryNames, "cxsparse", "k"), ConfigError);
+  // A misspelt word in a file names the key and lists the words.
+  try {
+    auto bad = OptionsReader::FromString("robust_kernel: cauchy\n", "t.yaml");
+    BundleAdjustmentOptions b;
+    bad.LoadInto(&b);
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("robust_kernel"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("none, huber, dcs"), std::string::npos) << e.what();
+  }
   auto reader2 = OptionsReader::FromString(
       "sparse_solver: iterative_schur\nsparse_library: eigen\n", "t");
   BundleAdjustmentOptions o2;
