@@ -130,18 +130,89 @@ void MapState::SetCameraPose(int frame, const Pose& world_from_cam) {
   world_from_cam_[frame] = world_from_cam;
 }
 
+// A window cluster and a map cluster it shares landmarks with.
+struct MapState::Candidate {
+  int window_label, map_id, shared;
+  double ratio;        // shared / the window cluster's landmarks
+  double known_ratio;  // shared / those of them the map already knows
+  double contained;    // shared / the map cluster's landmarks labelled in this window
+};
+
+// Which window cluster continues which map cluster, and how it was decided.
+struct MapState::Association {
+  std::map<int, int> window_to_map;
+  std::map<int, bool> map_taken;
+  std::map<int, bool> contained;   // by the containment test
+  std::map<int, Pose> by_motion;   // window label → mapcluster_from_wincluster
+  std::map<int, bool> to_static;   // folded into the static world by the motion test
+  bool Free(int window_label, int map_id) {
+    return !window_to_map.count(window_label) && !map_taken[map_id];
+  }
+  void Take(int window_label, int map_id) {
+    window_to_map[window_label] = map_id;
+    map_taken[map_id] = true;
+  }
+};
+
+namespace {
+
+// The window's landmarks by label.
+std::map<int, std::vector<int>> GroupByLabel(const MotionEstimate& window) {
+  std::map<int, std::vector<int>> members;
+  for (int l = 0; l < static_cast<int>(window.landmark_cluster.size()); ++l)
+    if (window.landmark_cluster[l] >= 0 && window.landmark_in_cluster[l].allFinite())
+      members[window.landmark_cluster[l]].push_back(l);
+  return members;
+}
+
+// The window's cluster trajectories in map world coordinates.
+std::map<int, Pose> InMapWorld(const ClusterMotion& motion, const Pose& map_from_window) {
+  std::map<int, Pose> t;
+  for (size_t k = 0; k < motion.frames.size(); ++k)
+    t.emplace(motion.frames[k], map_from_window * motion.world_from_cluster[k]);
+  return t;
+}
+
+}  // namespace
+
 WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   WindowIntegration info;
   info.range = window.range;
-  const int begin = window.range.begin;
   window_last_frame_ = window.range.end - 1;
-  if (options_.retire_after_frames > 0) RetireBefore(begin - options_.retire_after_frames);
+  if (options_.retire_after_frames > 0) RetireBefore(window.range.begin - options_.retire_after_frames);
   CSLAM_CHECK(static_cast<int>(window.world_from_cam.size()) == window.range.size(),
               "window estimate needs one camera pose per frame");
+  const Pose map_from_window = ChainCamera(window, &info);
 
-  // Chain the window to the newest map pose it shares (with refine_camera_from: the newest up
-  // to the window's frame k − 1, later ones are re-estimated here): the window's own first
-  // frames were estimated with less context than the map's older windows had.
+  const std::map<int, std::vector<int>> members = GroupByLabel(window);
+  if (auto it = members.find(0); it != members.end())
+    for (int l : it->second) Assign(l, 0, map_from_window * window.landmark_in_cluster[l]);
+
+  const std::vector<Candidate> candidates = AssociationCandidates(window, members);
+  Association a;
+  for (const auto& c : candidates) {
+    if (c.map_id == 0) continue;  // the static world continues through the motion check only
+    if (c.ratio < options_.association_overlap) break;
+    if (a.Free(c.window_label, c.map_id)) a.Take(c.window_label, c.map_id);
+  }
+  AssociateByContainment(candidates, &a);
+  AssociateByMotion(window, members, candidates, map_from_window, &a, &info);
+
+  for (const auto& [label, ids] : members) {
+    if (label == 0 || a.to_static.count(label)) continue;
+    const ClusterMotion* motion = window.FindCluster(label);
+    if (!motion || motion->frames.empty()) continue;
+    IntegrateCluster(window, label, ids, *motion, a, map_from_window, &info);
+  }
+  if (options_.merge_agreeing_clusters) MergeAgreeingClusters(&info);
+  return info;
+}
+
+// Chains the window to the newest map pose it shares (with refine_camera_from: the newest up
+// to the window's frame k − 1, later ones are re-estimated here): the window's own first
+// frames were estimated with less context than the map's older windows had.
+Pose MapState::ChainCamera(const MotionEstimate& window, WindowIntegration* info) {
+  const int begin = window.range.begin;
   Pose map_from_window = Pose::Identity();
   const int newest_anchor =
       options_.refine_camera_from > 0
@@ -149,12 +220,12 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
           : window.range.end;
   for (int f = std::min(newest_anchor, num_frames()) - 1; f >= begin; --f) {
     if (world_from_cam_[f]) {
-      info.anchor_frame = f;
+      info->anchor_frame = f;
       map_from_window = *world_from_cam_[f] * window.world_from_cam[f - begin].inverse();
       break;
     }
   }
-  if (info.anchor_frame < 0 && num_frames() > 0) {
+  if (info->anchor_frame < 0 && num_frames() > 0) {
     // No shared frame: continue from the last known pose as if the window started there.
     for (int f = num_frames() - 1; f >= 0; --f) {
       if (world_from_cam_[f]) {
@@ -162,34 +233,23 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
         break;
       }
     }
-    info.gap = true;
+    info->gap = true;
     gaps_.push_back(begin);
     GetLogger("system")->warn("window {}..{} shares no frame with the map: trajectory gap", begin,
                               window.range.end - 1);
   }
   for (int f = begin; f < window.range.end; ++f) {
-    const bool refine = options_.refine_camera_from > 0 && f > info.anchor_frame &&
-                        info.anchor_frame >= 0;
+    const bool refine = options_.refine_camera_from > 0 && f > info->anchor_frame &&
+                        info->anchor_frame >= 0;
     if (f >= num_frames() || !world_from_cam_[f] || refine)
       SetCameraPose(f, map_from_window * window.world_from_cam[f - begin]);
   }
+  return map_from_window;
+}
 
-  // Group the window's landmarks by label.
-  std::map<int, std::vector<int>> members;
-  for (int l = 0; l < static_cast<int>(window.landmark_cluster.size()); ++l)
-    if (window.landmark_cluster[l] >= 0 && window.landmark_in_cluster[l].allFinite())
-      members[window.landmark_cluster[l]].push_back(l);
-
-  if (auto it = members.find(0); it != members.end())
-    for (int l : it->second) Assign(l, 0, map_from_window * window.landmark_in_cluster[l]);
-
-  // Candidate associations, strongest overlap first, one window cluster per map cluster.
-  struct Candidate {
-    int window_label, map_id, shared;
-    double ratio;        // shared / the window cluster's landmarks
-    double known_ratio;  // shared / those of them the map already knows
-    double contained;    // shared / the map cluster's landmarks labelled in this window
-  };
+// Candidate associations, strongest overlap first, one window cluster per map cluster.
+std::vector<MapState::Candidate> MapState::AssociationCandidates(
+    const MotionEstimate& window, const std::map<int, std::vector<int>>& members) const {
   std::map<int, int> in_window;  // map cluster → its landmarks the window labelled
   for (const auto& [label, ids] : members)
     for (int l : ids)
@@ -216,60 +276,52 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     for (const auto& c : candidates)
       log->debug("map: window {}..{} cluster {} ({} landmarks) vs map cluster {}: {} shared, "
                  "overlap {:.2f}, known {:.2f}, contained {:.2f}",
-                 begin, window.range.end - 1, c.window_label, members[c.window_label].size(),
-                 c.map_id, c.shared, c.ratio, c.known_ratio, c.contained);
-  std::map<int, int> window_to_map;
-  std::map<int, bool> map_taken;
-  for (const auto& c : candidates) {
-    if (c.map_id == 0) continue;  // the static world continues through the motion check only
-    if (c.ratio < options_.association_overlap) break;
-    if (window_to_map.count(c.window_label) || map_taken[c.map_id]) continue;
-    window_to_map[c.window_label] = c.map_id;
-    map_taken[c.map_id] = true;
-  }
+                 window.range.begin, window.range.end - 1, c.window_label,
+                 members.at(c.window_label).size(), c.map_id, c.shared, c.ratio, c.known_ratio,
+                 c.contained);
+  return candidates;
+}
 
-  // Containment test (see MapStateOptions): the object's part still in view moved wholesale
-  // into this window cluster, which the newly tracked landmarks only diluted.
+// Containment test (see MapStateOptions): the object's part still in view moved wholesale
+// into this window cluster, which the newly tracked landmarks only diluted.
+void MapState::AssociateByContainment(const std::vector<Candidate>& candidates,
+                                      Association* a) const {
   std::vector<Candidate> by_contained = candidates;
   std::stable_sort(by_contained.begin(), by_contained.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.contained > b.contained; });
-  std::map<int, bool> contained;
+                   [](const Candidate& x, const Candidate& y) { return x.contained > y.contained; });
   for (const auto& c : by_contained) {
     if (c.contained < options_.containment_overlap) break;
     if (c.known_ratio < options_.known_overlap || c.shared < options_.min_shared_for_alignment ||
-        window_to_map.count(c.window_label) || map_taken[c.map_id])
+        !a->Free(c.window_label, c.map_id))
       continue;
-    window_to_map[c.window_label] = c.map_id;
-    map_taken[c.map_id] = true;
-    contained[c.window_label] = true;
+    a->Take(c.window_label, c.map_id);
+    a->contained[c.window_label] = true;
   }
+}
 
-  // The window's cluster trajectories in map world coordinates.
-  auto window_trajectory = [&](const ClusterMotion& motion) {
-    std::map<int, Pose> t;
-    for (size_t k = 0; k < motion.frames.size(); ++k)
-      t.emplace(motion.frames[k], map_from_window * motion.world_from_cluster[k]);
-    return t;
-  };
-  // Motion-checked association below association_overlap (see MapStateOptions). The static
-  // world (0) is a candidate too: a window cluster made of map-static landmarks that holds
-  // still in the map was the static world all along.
-  std::map<int, Pose> by_motion;  // window label → mapcluster_from_wincluster
-  std::map<int, bool> to_static;
+// Motion-checked association below association_overlap (see MapStateOptions). The static
+// world (0) is a candidate too: a window cluster made of map-static landmarks that holds
+// still in the map was the static world all along.
+void MapState::AssociateByMotion(const MotionEstimate& window,
+                                 const std::map<int, std::vector<int>>& members,
+                                 const std::vector<Candidate>& candidates,
+                                 const Pose& map_from_window, Association* a,
+                                 WindowIntegration* info) {
+  auto log = GetLogger("system");
   std::vector<Candidate> by_known = candidates;
-  std::stable_sort(by_known.begin(), by_known.end(), [](const Candidate& a, const Candidate& b) {
-    return a.known_ratio > b.known_ratio;
+  std::stable_sort(by_known.begin(), by_known.end(), [](const Candidate& x, const Candidate& y) {
+    return x.known_ratio > y.known_ratio;
   });
   for (const auto& c : by_known) {
     if (!options_.motion_association || c.known_ratio < options_.known_overlap) break;
-    if (window_to_map.count(c.window_label) || to_static.count(c.window_label) ||
-        (c.map_id >= 1 && map_taken[c.map_id]))
+    if (a->window_to_map.count(c.window_label) || a->to_static.count(c.window_label) ||
+        (c.map_id >= 1 && a->map_taken[c.map_id]))
       continue;
     const ClusterMotion* motion = window.FindCluster(c.window_label);
     if (!motion || motion->frames.empty()) continue;
-    const std::map<int, Pose> win = window_trajectory(*motion);
+    const std::map<int, Pose> win = InMapWorld(*motion, map_from_window);
     std::vector<Eigen::Vector3d> points;
-    for (int l : members[c.window_label]) points.push_back(window.landmark_in_cluster[l]);
+    for (int l : members.at(c.window_label)) points.push_back(window.landmark_in_cluster[l]);
     const MotionAgreement agreement =
         CompareMotions(c.map_id == 0 ? StaticTrajectory(win) : clusters_[c.map_id].world_from_cluster,
                        win, points, world_from_cam_);
@@ -279,94 +331,92 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
       continue;
     if (c.map_id == 0) {
-      to_static[c.window_label] = true;
-      info.cluster_map.emplace_back(c.window_label, 0);
-      for (int l : members[c.window_label]) Assign(l, 0, agreement.a_from_b * window.landmark_in_cluster[l]);
-      ++info.by_motion;
+      a->to_static[c.window_label] = true;
+      info->cluster_map.emplace_back(c.window_label, 0);
+      for (int l : members.at(c.window_label))
+        Assign(l, 0, agreement.a_from_b * window.landmark_in_cluster[l]);
+      ++info->by_motion;
       continue;
     }
-    window_to_map[c.window_label] = c.map_id;
-    map_taken[c.map_id] = true;
-    by_motion[c.window_label] = agreement.a_from_b;
+    a->Take(c.window_label, c.map_id);
+    a->by_motion[c.window_label] = agreement.a_from_b;
   }
+}
 
-  for (const auto& [label, ids] : members) {
-    if (label == 0 || to_static.count(label)) continue;
-    const ClusterMotion* motion = window.FindCluster(label);
-    if (!motion || motion->frames.empty()) continue;
-    // mapcluster_from_wincluster maps the window's cluster frame into the map's.
-    Pose mapcluster_from_wincluster = Pose::Identity();
-    int map_id = -1;
-    if (auto it = window_to_map.find(label); it != window_to_map.end()) {
-      bool aligned = false;
-      if (auto m = by_motion.find(label); m != by_motion.end()) {
-        // The shared landmarks may be the mislabelled few: trust the motion's offset.
-        mapcluster_from_wincluster = m->second;
-        aligned = true;
-        ++info.by_motion;
-      } else {
-        const MapCluster& mc = clusters_[it->second];
-        std::optional<MotionAgreement> stitch;
-        if (options_.stitch_by_motion) {
-          std::vector<Eigen::Vector3d> points;
-          for (int l : ids) points.push_back(window.landmark_in_cluster[l]);
-          stitch = CompareMotions(mc.world_from_cluster, window_trajectory(*motion), points,
-                                  world_from_cam_);
-          if (stitch->frames < options_.motion_min_frames) stitch.reset();
-        }
-        std::vector<Eigen::Vector3d> src, dst;  // shared landmarks, only when not stitched
-        if (!stitch)
-          for (int l : ids) {
-            if (ClusterOf(l) != it->second) continue;
-            src.push_back(window.landmark_in_cluster[l]);
-            dst.push_back(landmarks_[l].p_in_cluster);
-          }
-        if (stitch) {
-          mapcluster_from_wincluster = stitch->a_from_b;
-          aligned = true;
-        } else if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment) {
-          mapcluster_from_wincluster = AlignUmeyama(src, dst, false).rigid;
-          aligned = true;
-        } else {
-          for (size_t k = motion->frames.size(); k-- > 0;) {
-            const auto pose = mc.world_from_cluster.find(motion->frames[k]);
-            if (pose == mc.world_from_cluster.end()) continue;
-            mapcluster_from_wincluster =
-                pose->second.inverse() * map_from_window * motion->world_from_cluster[k];
-            aligned = true;
-            break;
-          }
-        }
-      }
-      if (aligned) {
-        map_id = it->second;
-        ++info.associated;
-        if (contained.count(label)) ++info.by_containment;
-      }
-    }
-    if (map_id < 0 && static_cast<int>(ids.size()) < options_.min_new_cluster_landmarks) {
-      ++info.dropped;
-      continue;
-    }
-    if (map_id < 0) {
-      map_id = next_cluster_id_++;
-      clusters_[map_id].id = map_id;
-      mapcluster_from_wincluster = Pose::Identity();
-      ++info.created;
-    }
-    info.cluster_map.emplace_back(label, map_id);
-    MapCluster& mc = clusters_[map_id];
-    const Pose wincluster_from_mapcluster = mapcluster_from_wincluster.inverse();
-    for (size_t k = 0; k < motion->frames.size(); ++k) {
-      // Keep poses already in the map so the published trajectory never changes under a
-      // reader's feet; the window only extends it.
-      mc.world_from_cluster.try_emplace(
-          motion->frames[k], map_from_window * motion->world_from_cluster[k] * wincluster_from_mapcluster);
-    }
-    for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
+// How a window cluster's frame maps into map cluster `map_id`'s: by the trajectories' offset
+// (stitch_by_motion), else by the shared landmarks, else at the newest shared frame; nullopt
+// when nothing ties them.
+std::optional<Pose> MapState::AlignToMapCluster(const MotionEstimate& window, int map_id,
+                                                const std::vector<int>& ids,
+                                                const ClusterMotion& motion,
+                                                const Pose& map_from_window) {
+  const MapCluster& mc = clusters_[map_id];
+  if (options_.stitch_by_motion) {
+    std::vector<Eigen::Vector3d> points;
+    for (int l : ids) points.push_back(window.landmark_in_cluster[l]);
+    const MotionAgreement stitch = CompareMotions(
+        mc.world_from_cluster, InMapWorld(motion, map_from_window), points, world_from_cam_);
+    if (stitch.frames >= options_.motion_min_frames) return stitch.a_from_b;
   }
-  if (options_.merge_agreeing_clusters) MergeAgreeingClusters(&info);
-  return info;
+  std::vector<Eigen::Vector3d> src, dst;  // shared landmarks
+  for (int l : ids) {
+    if (ClusterOf(l) != map_id) continue;
+    src.push_back(window.landmark_in_cluster[l]);
+    dst.push_back(landmarks_[l].p_in_cluster);
+  }
+  if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment)
+    return AlignUmeyama(src, dst, false).rigid;
+  for (size_t k = motion.frames.size(); k-- > 0;) {
+    const auto pose = mc.world_from_cluster.find(motion.frames[k]);
+    if (pose == mc.world_from_cluster.end()) continue;
+    return Pose(pose->second.inverse() * map_from_window * motion.world_from_cluster[k]);
+  }
+  return std::nullopt;
+}
+
+// Continues the associated map cluster with a window cluster, or starts a new one.
+void MapState::IntegrateCluster(const MotionEstimate& window, int label, const std::vector<int>& ids,
+                                const ClusterMotion& motion, const Association& a,
+                                const Pose& map_from_window, WindowIntegration* info) {
+  // mapcluster_from_wincluster maps the window's cluster frame into the map's.
+  Pose mapcluster_from_wincluster = Pose::Identity();
+  int map_id = -1;
+  if (auto it = a.window_to_map.find(label); it != a.window_to_map.end()) {
+    std::optional<Pose> aligned;
+    if (auto m = a.by_motion.find(label); m != a.by_motion.end()) {
+      // The shared landmarks may be the mislabelled few: trust the motion's offset.
+      aligned = m->second;
+      ++info->by_motion;
+    } else {
+      aligned = AlignToMapCluster(window, it->second, ids, motion, map_from_window);
+    }
+    if (aligned) {
+      mapcluster_from_wincluster = *aligned;
+      map_id = it->second;
+      ++info->associated;
+      if (a.contained.count(label)) ++info->by_containment;
+    }
+  }
+  if (map_id < 0 && static_cast<int>(ids.size()) < options_.min_new_cluster_landmarks) {
+    ++info->dropped;
+    return;
+  }
+  if (map_id < 0) {
+    map_id = next_cluster_id_++;
+    clusters_[map_id].id = map_id;
+    mapcluster_from_wincluster = Pose::Identity();
+    ++info->created;
+  }
+  info->cluster_map.emplace_back(label, map_id);
+  MapCluster& mc = clusters_[map_id];
+  const Pose wincluster_from_mapcluster = mapcluster_from_wincluster.inverse();
+  for (size_t k = 0; k < motion.frames.size(); ++k) {
+    // Keep poses already in the map so the published trajectory never changes under a
+    // reader's feet; the window only extends it.
+    mc.world_from_cluster.try_emplace(
+        motion.frames[k], map_from_window * motion.world_from_cluster[k] * wincluster_from_mapcluster);
+  }
+  for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
 }
 
 void MapState::Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster) {

@@ -138,7 +138,23 @@ class MapState {
     Eigen::Vector3d p_in_cluster = Eigen::Vector3d::Zero();
     int last_frame = -1;  ///< last frame of the last window that labelled it
   };
+  struct Candidate;
+  struct Association;
   const LandmarkState* Find(int landmark) const;
+  /// Integrate's phases (map_state.cc).
+  Pose ChainCamera(const MotionEstimate& window, WindowIntegration* info);
+  std::vector<Candidate> AssociationCandidates(const MotionEstimate& window,
+                                               const std::map<int, std::vector<int>>& members) const;
+  void AssociateByContainment(const std::vector<Candidate>& candidates, Association* a) const;
+  void AssociateByMotion(const MotionEstimate& window, const std::map<int, std::vector<int>>& members,
+                         const std::vector<Candidate>& candidates, const Pose& map_from_window,
+                         Association* a, WindowIntegration* info);
+  std::optional<Pose> AlignToMapCluster(const MotionEstimate& window, int map_id,
+                                        const std::vector<int>& ids, const ClusterMotion& motion,
+                                        const Pose& map_from_window);
+  void IntegrateCluster(const MotionEstimate& window, int label, const std::vector<int>& ids,
+                        const ClusterMotion& motion, const Association& a,
+                        const Pose& map_from_window, WindowIntegration* info);
   /// Moves the landmarks last labelled before `frame` from landmarks_ to retired_.
   void RetireBefore(int frame);
   void SetCameraPose(int frame, const Pose& world_from_cam);
