@@ -431,6 +431,203 @@ Pose RegisterRobust(const std::vector<RegistrationPoint>& points, std::span<cons
   return best;
 }
 
+namespace {
+
+// Per frame of the range: the cluster's observations that back-project (positive disparity).
+// Also fills shape->frames (the frames the cluster is seen in) and shape->first_sight.
+std::vector<std::vector<FramePoint>> PointsByFrame(const TrackletTable& table,
+                                                   const StereoCamera& camera, FrameRange range,
+                                                   int min_points, ClusterShape* shape) {
+  const int n = static_cast<int>(shape->landmarks.size());
+  std::vector<std::vector<FramePoint>> by_frame(range.size());
+  std::vector<bool> seen(range.size(), false);
+  for (int local = 0; local < n; ++local) {
+    for (const StereoObservation& obs : table.ObservationsOf(shape->landmarks[local], range)) {
+      seen[obs.frame - range.begin] = true;
+      Eigen::Vector3d p;
+      if (!camera.BackProject<double>(obs.x, &p)) continue;
+      by_frame[obs.frame - range.begin].push_back(
+          {local, p, camera.PointCovariance(obs.x, obs.cov), obs.cov});
+    }
+  }
+  for (int f = 0; f < range.size(); ++f) {
+    if (!seen[f]) continue;
+    shape->frames.push_back(range.begin + f);
+    if (shape->first_sight < 0 && static_cast<int>(by_frame[f].size()) >= min_points)
+      shape->first_sight = range.begin + f;
+  }
+  return by_frame;
+}
+
+/// One pass of the frame-by-frame registration and fusion (spec: shape initialisation).
+class ShapeBuilder {
+ public:
+  ShapeBuilder(const StereoCamera& camera, const ShapeInitOptions& options, bool point_to_point_icp,
+               FrameRange range, const std::vector<std::vector<FramePoint>>& by_frame)
+      : camera_(camera), options_(options), p2p_(point_to_point_icp), range_(range),
+        by_frame_(by_frame) {}
+
+  // Registers every frame of shape->frames in turn and fuses its points; `excluded` landmarks
+  // take no part in the registration and are not fused by Eq. 4.
+  void Pass(const std::vector<bool>& excluded, ClusterShape* shape) {
+    const int n = static_cast<int>(excluded.size());
+    models_.assign(n, LandmarkModel{});
+    for (int local = 0; local < n; ++local)
+      if (excluded[local]) models_[local].rigid = false;
+    shape->cluster_from_cam.clear();
+    shape->registered.clear();
+    shape->num_unregistered = 0;
+    Pose current = Pose::Identity();
+    for (int frame : shape->frames) {
+      const std::vector<FramePoint>& points = by_frame_[frame - range_.begin];
+      bool registered = false;
+      if (shape->first_sight >= 0 && frame == shape->first_sight) {
+        current = Pose::Identity();
+        registered = true;
+      } else if (shape->first_sight >= 0 && frame > shape->first_sight) {
+        registered = Register(points, frame, &current);
+      }
+      shape->cluster_from_cam.push_back(current);
+      shape->registered.push_back(registered);
+      if (registered)
+        for (const FramePoint& fp : points) Integrate(fp, current);
+      else
+        ++shape->num_unregistered;
+    }
+  }
+
+  // Frames before first sight carry the first sight's pose (the identity) backwards.
+  // Landmarks seen only in unregistered frames are placed from their first observation.
+  void Finish(ClusterShape* shape) {
+    for (size_t k = 0; k < shape->frames.size(); ++k) {
+      const int frame = shape->frames[k];
+      if (shape->first_sight >= 0 && frame < shape->first_sight)
+        shape->cluster_from_cam[k] = Pose::Identity();
+      for (const FramePoint& fp : by_frame_[frame - range_.begin]) {
+        if (models_[fp.local].initialised) continue;
+        models_[fp.local].initialised = true;
+        models_[fp.local].mean = shape->cluster_from_cam[k] * fp.p_in_cam;
+      }
+    }
+    for (int local = 0; local < static_cast<int>(models_.size()); ++local) {
+      if (models_[local].initialised) shape->point_in_cluster[local] = models_[local].mean;
+      if (options_.refit_passes <= 0) shape->consistent[local] = models_[local].rigid;
+    }
+  }
+
+ private:
+  // With covariance_at_model, the new observation's Σ and every stored component's are
+  // evaluated at the same point (the current mean): evaluated at each measurement, Σ is
+  // correlated with the noise, and since 1/|Σ| grows like Z⁻⁸ the weights would favour
+  // points measured too close; evaluated at a mean that moves, an estimate that drifted far
+  // would discount the observations correcting it. Both bias the shape.
+  Eigen::Matrix3d Covariance(const FramePoint& fp, const Pose& cluster_from_cam) const {
+    const LandmarkModel& model = models_[fp.local];
+    const Eigen::Matrix3d R = cluster_from_cam.linear();
+    const Eigen::Matrix3d measured = R * fp.cov_in_cam * R.transpose();
+    if (!options_.covariance_at_model || !model.initialised) return measured;
+    return CovarianceAtModel(camera_, fp.pixel_cov, model.mean, cluster_from_cam, measured);
+  }
+
+  void Integrate(const FramePoint& fp, const Pose& cluster_from_cam) {
+    const Eigen::Vector3d p = cluster_from_cam * fp.p_in_cam;
+    LandmarkModel& model = models_[fp.local];
+    // The point-to-point ablation, and a landmark that does not move with the cluster: the
+    // running mean of its mapped observations (bounded by them — the place that explains its
+    // whole track best as a static point, and a sane start for bundle adjustment).
+    if (p2p_ || !model.rigid) {
+      model.mean = model.initialised ? (model.mean * model.count + p) / (model.count + 1) : p;
+      model.initialised = true;
+      ++model.count;
+      return;
+    }
+    const Eigen::Matrix3d cov = Covariance(fp, cluster_from_cam);
+    const Eigen::Vector3d previous_mean = model.mean;
+    const bool fused = IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
+                                           options_.fusion_gate_chi2, &model);
+    const bool ran_away =
+        fused && options_.max_fused_range_ratio > 0 &&
+        !((model.mean - cluster_from_cam.translation()).norm() <=
+          options_.max_fused_range_ratio * fp.p_in_cam.norm());
+    if (!fused || ran_away) {
+      model.rigid = false;
+      // A first observation leaves nothing to average with.
+      model.mean = model.count > 0 ? (previous_mean * model.count + p) / (model.count + 1) : p;
+      ++model.count;
+      return;
+    }
+    ++model.count;
+    if (options_.covariance_at_model) Refresh(camera_, &model);
+    Prune(options_.max_mixture_components, &model);
+  }
+
+  // The frame's pose from its points already in the model; false when too few are, or the
+  // estimate is not finite (*current is then unchanged).
+  bool Register(const std::vector<FramePoint>& points, int frame, Pose* current) const {
+    std::vector<const FramePoint*> matched, rigid;
+    for (const FramePoint& fp : points)
+      if (models_[fp.local].initialised) {
+        matched.push_back(&fp);
+        if (models_[fp.local].rigid) rigid.push_back(&fp);
+      }
+    // Register on the landmarks that have moved with the cluster so far, when enough do.
+    if (static_cast<int>(rigid.size()) >= options_.min_points) matched = std::move(rigid);
+    if (static_cast<int>(matched.size()) < options_.min_points) return false;
+    std::vector<Eigen::Vector3d> src, dst;
+    for (const FramePoint* fp : matched) {
+      src.push_back(fp->p_in_cam);
+      dst.push_back(models_[fp->local].mean);
+    }
+    const Pose svd = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
+    const Pose estimate = p2p_ ? svd : RegisterNoiseAwareFrom(matched, *current, svd, frame);
+    if (!estimate.matrix().allFinite()) return false;
+    *current = estimate;
+    return true;
+  }
+
+  Pose RegisterNoiseAwareFrom(const std::vector<const FramePoint*>& matched, const Pose& current,
+                              const Pose& svd, int frame) const {
+    std::vector<RegistrationPoint> corr;
+    corr.reserve(matched.size());
+    for (const FramePoint* fp : matched) {
+      // Registration needs Σ in the camera frame: rotate the cluster-frame one back.
+      const Eigen::Matrix3d R = current.linear();
+      RegistrationPoint rp{fp->p_in_cam, R.transpose() * Covariance(*fp, current) * R,
+                           models_[fp->local].mean, {}};
+      for (const Component& c : models_[fp->local].components)
+        rp.model_covariances.push_back(c.cov);
+      corr.push_back(std::move(rp));
+    }
+    // Start from the better of the previous pose and the SVD solution: from the previous
+    // pose alone, Gauss–Newton lost a fast-spinning small body (depth weakly constrained) in
+    // a wrong basin; a constant-velocity start made outdoor runs worse.
+    const std::vector<Pose> starts = {current, svd};
+    if (options_.robust_registration)
+      return RegisterRobust(corr, starts, options_, static_cast<unsigned>(frame));
+    Pose start = current;
+    double best = std::numeric_limits<double>::infinity();
+    for (const Pose& candidate : starts) {
+      const double c = RegistrationCost(corr, candidate, options_.huber_threshold_sigma);
+      if (c < best) {
+        best = c;
+        start = candidate;
+      }
+    }
+    const Pose estimate = RegisterNoiseAware(corr, start, options_);
+    if (!(RegistrationCost(corr, estimate, options_.huber_threshold_sigma) <= best)) return start;
+    return estimate;
+  }
+
+  const StereoCamera& camera_;
+  const ShapeInitOptions& options_;
+  const bool p2p_;
+  const FrameRange range_;
+  const std::vector<std::vector<FramePoint>>& by_frame_;
+  std::vector<LandmarkModel> models_;
+};
+
+}  // namespace
+
 ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCamera& camera,
                                     FrameRange range, std::span<const int> landmarks,
                                     const ShapeInitOptions& options, bool point_to_point_icp) {
@@ -442,152 +639,14 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
   shape.consistent.assign(n, true);
   if (range.size() <= 0 || n == 0) return shape;
 
-  // Per frame of the range: the cluster's observations that back-project (positive disparity).
-  std::vector<std::vector<FramePoint>> by_frame(range.size());
-  std::vector<bool> seen(range.size(), false);
-  for (int local = 0; local < n; ++local) {
-    for (const StereoObservation& obs : table.ObservationsOf(shape.landmarks[local], range)) {
-      seen[obs.frame - range.begin] = true;
-      Eigen::Vector3d p;
-      if (!camera.BackProject<double>(obs.x, &p)) continue;
-      by_frame[obs.frame - range.begin].push_back(
-          {local, p, camera.PointCovariance(obs.x, obs.cov), obs.cov});
-    }
-  }
-  for (int f = 0; f < range.size(); ++f) {
-    if (!seen[f]) continue;
-    shape.frames.push_back(range.begin + f);
-    if (shape.first_sight < 0 && static_cast<int>(by_frame[f].size()) >= options.min_points)
-      shape.first_sight = range.begin + f;
-  }
-
-  std::vector<LandmarkModel> models;
-  // With covariance_at_model, the new observation's Σ and every stored component's are
-  // evaluated at the same point (the current mean): evaluated at each measurement, Σ is
-  // correlated with the noise, and since 1/|Σ| grows like Z⁻⁸ the weights would favour
-  // points measured too close; evaluated at a mean that moves, an estimate that drifted far
-  // would discount the observations correcting it. Both bias the shape.
-  auto covariance = [&](const FramePoint& fp, const Pose& cluster_from_cam) -> Eigen::Matrix3d {
-    const LandmarkModel& model = models[fp.local];
-    const Eigen::Matrix3d R = cluster_from_cam.linear();
-    const Eigen::Matrix3d measured = R * fp.cov_in_cam * R.transpose();
-    if (!options.covariance_at_model || !model.initialised) return measured;
-    return CovarianceAtModel(camera, fp.pixel_cov, model.mean, cluster_from_cam, measured);
-  };
-  auto integrate = [&](const FramePoint& fp, const Pose& cluster_from_cam) {
-    const Eigen::Vector3d p = cluster_from_cam * fp.p_in_cam;
-    LandmarkModel& model = models[fp.local];
-    // The point-to-point ablation, and a landmark that does not move with the cluster: the
-    // running mean of its mapped observations (bounded by them — the place that explains its
-    // whole track best as a static point, and a sane start for bundle adjustment).
-    if (point_to_point_icp || !model.rigid) {
-      model.mean = model.initialised ? (model.mean * model.count + p) / (model.count + 1) : p;
-      model.initialised = true;
-      ++model.count;
-      return;
-    }
-    const Eigen::Matrix3d cov = covariance(fp, cluster_from_cam);
-    const Eigen::Vector3d previous_mean = model.mean;
-    const bool fused = IntegrateNoiseAware(p, {fp.pixel_cov, cluster_from_cam, cov, -LogDet(cov)},
-                                           options.fusion_gate_chi2, &model);
-    const bool ran_away =
-        fused && options.max_fused_range_ratio > 0 &&
-        !((model.mean - cluster_from_cam.translation()).norm() <=
-          options.max_fused_range_ratio * fp.p_in_cam.norm());
-    if (!fused || ran_away) {
-      model.rigid = false;
-      // A first observation leaves nothing to average with.
-      model.mean = model.count > 0 ? (previous_mean * model.count + p) / (model.count + 1) : p;
-      ++model.count;
-      return;
-    }
-    ++model.count;
-    if (options.covariance_at_model) Refresh(camera, &model);
-    Prune(options.max_mixture_components, &model);
-  };
-
+  const std::vector<std::vector<FramePoint>> by_frame =
+      PointsByFrame(table, camera, range, options.min_points, &shape);
+  ShapeBuilder builder(camera, options, point_to_point_icp, range, by_frame);
   // excluded[local]: the landmark's track is not explained by the previous pass's trajectory
-  // (refit_passes); it then takes no part in the registration and is not fused by Eq. 4.
+  // (refit_passes).
   std::vector<bool> excluded(n, false);
   for (int pass = 0;; ++pass) {
-    models.assign(n, LandmarkModel{});
-    for (int local = 0; local < n; ++local)
-      if (excluded[local]) models[local].rigid = false;
-    shape.cluster_from_cam.clear();
-    shape.registered.clear();
-    shape.num_unregistered = 0;
-    Pose current = Pose::Identity();
-    for (int frame : shape.frames) {
-      const std::vector<FramePoint>& points = by_frame[frame - range.begin];
-      bool registered = false;
-      if (shape.first_sight >= 0 && frame == shape.first_sight) {
-        current = Pose::Identity();
-        registered = true;
-      } else if (shape.first_sight >= 0 && frame > shape.first_sight) {
-        std::vector<const FramePoint*> matched, rigid;
-        for (const FramePoint& fp : points)
-          if (models[fp.local].initialised) {
-            matched.push_back(&fp);
-            if (models[fp.local].rigid) rigid.push_back(&fp);
-          }
-        // Register on the landmarks that have moved with the cluster so far, when enough do.
-        if (static_cast<int>(rigid.size()) >= options.min_points) matched = std::move(rigid);
-        if (static_cast<int>(matched.size()) >= options.min_points) {
-          std::vector<Eigen::Vector3d> src, dst;
-          for (const FramePoint* fp : matched) {
-            src.push_back(fp->p_in_cam);
-            dst.push_back(models[fp->local].mean);
-          }
-          const Pose svd = AlignUmeyama(src, dst, /*with_scale=*/false).rigid;
-          Pose estimate = svd;
-          if (!point_to_point_icp) {
-            std::vector<RegistrationPoint> corr;
-            corr.reserve(matched.size());
-            for (const FramePoint* fp : matched) {
-              // Registration needs Σ in the camera frame: rotate the cluster-frame one back.
-              const Eigen::Matrix3d R = current.linear();
-              RegistrationPoint rp{fp->p_in_cam,
-                                   R.transpose() * covariance(*fp, current) * R,
-                                   models[fp->local].mean,
-                                   {}};
-              for (const Component& c : models[fp->local].components)
-                rp.model_covariances.push_back(c.cov);
-              corr.push_back(std::move(rp));
-            }
-            // Start from the better of the previous pose and the SVD solution: from the previous
-            // pose alone, Gauss–Newton lost a fast-spinning small body (depth weakly
-            // constrained) in a wrong basin; a constant-velocity start made outdoor runs worse.
-            const std::vector<Pose> starts = {current, svd};
-            if (options.robust_registration) {
-              estimate = RegisterRobust(corr, starts, options, static_cast<unsigned>(frame));
-            } else {
-              Pose start = current;
-              double best = std::numeric_limits<double>::infinity();
-              for (const Pose& candidate : starts) {
-                const double c = RegistrationCost(corr, candidate, options.huber_threshold_sigma);
-                if (c < best) {
-                  best = c;
-                  start = candidate;
-                }
-              }
-              estimate = RegisterNoiseAware(corr, start, options);
-              if (!(RegistrationCost(corr, estimate, options.huber_threshold_sigma) <= best))
-                estimate = start;
-            }
-          }
-          if (estimate.matrix().allFinite()) {
-            current = estimate;
-            registered = true;
-          }
-        }
-      }
-      shape.cluster_from_cam.push_back(current);
-      shape.registered.push_back(registered);
-      if (registered)
-        for (const FramePoint& fp : points) integrate(fp, current);
-      else
-        ++shape.num_unregistered;
-    }
+    builder.Pass(excluded, &shape);
     if (options.refit_passes <= 0) break;
     const std::vector<bool> next = TrackOutliers(by_frame, range, shape, options.refit_chi2);
     if (pass >= options.refit_passes || next == excluded) {
@@ -597,23 +656,7 @@ ClusterShape InitializeClusterShape(const TrackletTable& table, const StereoCame
     }
     excluded = next;
   }
-
-  // Frames before first sight carry the first sight's pose (the identity) backwards.
-  // Landmarks seen only in unregistered frames are placed from their first observation.
-  for (size_t k = 0; k < shape.frames.size(); ++k) {
-    const int frame = shape.frames[k];
-    if (shape.first_sight >= 0 && frame < shape.first_sight)
-      shape.cluster_from_cam[k] = Pose::Identity();
-    for (const FramePoint& fp : by_frame[frame - range.begin]) {
-      if (models[fp.local].initialised) continue;
-      models[fp.local].initialised = true;
-      models[fp.local].mean = shape.cluster_from_cam[k] * fp.p_in_cam;
-    }
-  }
-  for (int local = 0; local < n; ++local) {
-    if (models[local].initialised) shape.point_in_cluster[local] = models[local].mean;
-    if (options.refit_passes <= 0) shape.consistent[local] = models[local].rigid;
-  }
+  builder.Finish(&shape);
   return shape;
 }
 
