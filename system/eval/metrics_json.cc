@@ -11,28 +11,168 @@ namespace {
 
 using nlohmann::json;
 
+// Each section's fields, listed once: ToJson writes them and RunMetricsFromJson reads them by
+// walking the same list, so a new metric is one line in one list. `f(key, member)`.
+constexpr auto kCameraFields = [](auto& c, auto&& f) {
+  f("ate_m", c.ate_m);
+  f("ate_sim3_m", c.ate_sim3_m);
+  f("sim3_scale", c.sim3_scale);
+  f("rpe_frame_t_m", c.rpe_frame_t_m);
+  f("rpe_frame_r_rad", c.rpe_frame_r_rad);
+  f("rpe_pairs_t_m", c.rpe_pairs_t_m);
+  f("rpe_pairs_r_rad", c.rpe_pairs_r_rad);
+  f("path_length_m", c.path_length_m);
+  f("gt_path_length_m", c.gt_path_length_m);
+};
+constexpr auto kPerObjectFields = [](auto& o, auto&& f) {
+  f("gt_object", o.gt_object);
+  f("cluster", o.cluster);
+  f("landmarks", o.landmarks);
+  f("ate_m", o.ate_m);
+  f("rpe_frame_t_m", o.rpe_frame_t_m);
+  f("rpe_frame_r_rad", o.rpe_frame_r_rad);
+  f("rpe_pairs_t_m", o.rpe_pairs_t_m);
+  f("rpe_pairs_r_rad", o.rpe_pairs_r_rad);
+  f("found", o.found);
+};
+constexpr auto kObjectFields = [](auto& o, auto&& f) {
+  f("ate_m", o.ate_m);
+  f("rpe_frame_t_m", o.rpe_frame_t_m);
+  f("rpe_frame_r_rad", o.rpe_frame_r_rad);
+  f("rpe_pairs_t_m", o.rpe_pairs_t_m);
+  f("rpe_pairs_r_rad", o.rpe_pairs_r_rad);
+  f("matched", o.matched);
+  f("gt", o.gt);
+  f("eligible", o.eligible);
+  f("found_eligible", o.found_eligible);
+  f("eligible_min_landmarks", o.eligible_min_landmarks);
+  f("reported", o.reported);
+  f("reported_on_movers", o.reported_on_movers);
+  f("precision", o.precision);
+  f("recall", o.recall);
+  f("static_in_objects_fraction", o.static_in_objects_fraction);
+  f("per_object", o.per_object);
+};
+constexpr auto kClusteringFields = [](auto& c, auto&& f) {
+  f("accuracy", c.accuracy);
+  f("vi", c.vi);
+  f("clusters", c.clusters);
+  f("gt_objects", c.gt_objects);
+};
+constexpr auto kLandmarkFields = [](auto& l, auto&& f) {
+  f("rmse_m", l.rmse_m);
+  f("count", l.count);
+};
+constexpr auto kNoiseFields = [](auto& n, auto&& f) {
+  f("static_chi2_per_dof", n.static_chi2_per_dof);
+  f("static_cut_fraction", n.static_cut_fraction);
+  f("static_landmarks", n.static_landmarks);
+  f("static_observations", n.static_observations);
+};
+constexpr auto kTimingFields = [](auto& t, auto&& f) {
+  f("total_s", t.total_s);
+  f("frontend_ms_per_frame", t.frontend_ms_per_frame);
+  f("backend_ms_per_window", t.backend_ms_per_window);
+  f("hz", t.hz);
+  f("peak_rss_mb", t.peak_rss_mb);
+};
+constexpr auto kRunFields = [](auto& r, auto&& f) {
+  f("interrupted", r.interrupted);
+  f("windows", r.windows);
+  f("failed_windows", r.failed_windows);
+  f("adjustment_failed_windows", r.adjustment_failed_windows);
+  f("tracking_lost", r.tracking_lost);
+  f("gaps", r.gaps);
+};
+constexpr auto kCalibrationFields = [](auto& c, auto&& f) {
+  f("disparity_offset_px", c.disparity_offset_px);
+  f("disparity_offset_sigma_px", c.disparity_offset_sigma_px);
+  f("disparity_offset_applied_px", c.disparity_offset_applied_px);
+  f("disparity_offset_frames", c.disparity_offset_frames);
+  f("disparity_offset_yaw_rate", c.disparity_offset_yaw_rate);
+  f("disparity_offset_decision", c.disparity_offset_decision);
+};
+constexpr auto kGroundTruthFields = [](auto& g, auto&& f) {
+  f("cross_check", g.cross_check);
+  f("position_accuracy_median_m", g.position_accuracy_median_m);
+  f("cross_check_path_length_m", g.cross_check_path_length_m);
+  f("cross_check_ate_sim3_m", g.cross_check_ate_sim3_m);
+  f("camera_ate_sim3_vs_cross_check_m", g.camera_ate_sim3_vs_cross_check_m);
+  f("camera_sim3_scale_vs_cross_check", g.camera_sim3_scale_vs_cross_check);
+};
+// The top level: plain fields, and sections (JSON objects) with their field lists.
+constexpr auto kRunMetricsFields = [](auto& m, auto&& f, auto&& section) {
+  f("sequence", m.sequence);
+  f("frames", m.frames);
+  f("method", m.method);
+  section("camera", m.camera, kCameraFields);
+  section("objects", m.objects, kObjectFields);
+  section("clustering", m.clustering, kClusteringFields);
+  section("landmarks", m.landmarks, kLandmarkFields);
+  section("noise", m.noise, kNoiseFields);
+  f("log_chi2", m.log_chi2);
+  section("timing", m.timing, kTimingFields);
+  section("run", m.run, kRunFields);
+  section("calibration", m.calibration, kCalibrationFields);
+  section("ground_truth", m.ground_truth, kGroundTruthFields);
+};
+
 // NaN and infinity are "unavailable" too: JSON has no spelling for them.
 template <typename T>
-json Value(const std::optional<T>& v) {
-  if (!v) {
-    return nullptr;
-  }
+json Put(const std::optional<T>& v) {
+  if (!v) return nullptr;
   if constexpr (std::is_floating_point_v<T>) {
-    if (!std::isfinite(*v)) {
-      return nullptr;
-    }
+    if (!std::isfinite(*v)) return nullptr;
   }
   return *v;
 }
-
 template <typename T>
-void Read(const json& object, const char* key, std::optional<T>& out) {
+json Put(const T& v) {
+  return v;
+}
+json Put(const std::vector<RunMetrics::PerObject>& objects);
+
+template <typename Fields, typename S>
+json WriteFields(const Fields& fields, const S& s) {
+  json j = json::object();
+  fields(s, [&](const char* key, const auto& v) { j[key] = Put(v); });
+  return j;
+}
+
+json Put(const std::vector<RunMetrics::PerObject>& objects) {
+  json a = json::array();
+  for (const auto& o : objects) a.push_back(WriteFields(kPerObjectFields, o));
+  return a;
+}
+
+// Absent and null leave a field at its default (nullopt for the optional ones).
+template <typename T>
+void Get(const json& object, const char* key, std::optional<T>& out) {
   out.reset();
   const auto it = object.find(key);
-  if (it == object.end() || it->is_null()) {
-    return;
+  if (it != object.end() && !it->is_null()) out = it->get<T>();
+}
+template <typename T>
+void Get(const json& object, const char* key, T& out) {
+  const auto it = object.find(key);
+  if (it != object.end() && !it->is_null()) out = it->get<T>();
+}
+void Get(const json& object, const char* key, std::vector<RunMetrics::PerObject>& out);
+
+template <typename Fields, typename S>
+void ReadFields(const Fields& fields, const json& j, S& s) {
+  fields(s, [&](const char* key, auto& v) { Get(j, key, v); });
+}
+
+void Get(const json& object, const char* key, std::vector<RunMetrics::PerObject>& out) {
+  out.clear();
+  const auto it = object.find(key);
+  if (it == object.end() || !it->is_array()) return;
+  for (const json& e : *it) {
+    RunMetrics::PerObject p;
+    ReadFields(kPerObjectFields, e, p);
+    out.push_back(p);
   }
-  out = it->get<T>();
 }
 
 const json& Child(const json& object, const char* key) {
@@ -44,82 +184,10 @@ const json& Child(const json& object, const char* key) {
 }  // namespace
 
 nlohmann::json ToJson(const RunMetrics& m) {
-  json per_object = json::array();
-  for (const auto& o : m.objects.per_object) {
-    per_object.push_back({{"gt_object", o.gt_object},
-                          {"cluster", Value(o.cluster)},
-                          {"landmarks", Value(o.landmarks)},
-                          {"ate_m", Value(o.ate_m)},
-                          {"rpe_frame_t_m", Value(o.rpe_frame_t_m)},
-                          {"rpe_frame_r_rad", Value(o.rpe_frame_r_rad)},
-                          {"rpe_pairs_t_m", Value(o.rpe_pairs_t_m)},
-                          {"rpe_pairs_r_rad", Value(o.rpe_pairs_r_rad)},
-                          {"found", o.found}});
-  }
-  json j;
-  j["sequence"] = m.sequence;
-  j["frames"] = Value(m.frames);
-  j["method"] = m.method;
-  j["camera"] = {{"ate_m", Value(m.camera.ate_m)},
-                 {"ate_sim3_m", Value(m.camera.ate_sim3_m)},
-                 {"sim3_scale", Value(m.camera.sim3_scale)},
-                 {"rpe_frame_t_m", Value(m.camera.rpe_frame_t_m)},
-                 {"rpe_frame_r_rad", Value(m.camera.rpe_frame_r_rad)},
-                 {"rpe_pairs_t_m", Value(m.camera.rpe_pairs_t_m)},
-                 {"rpe_pairs_r_rad", Value(m.camera.rpe_pairs_r_rad)},
-                 {"path_length_m", Value(m.camera.path_length_m)},
-                 {"gt_path_length_m", Value(m.camera.gt_path_length_m)}};
-  j["objects"] = {{"ate_m", Value(m.objects.ate_m)},
-                  {"rpe_frame_t_m", Value(m.objects.rpe_frame_t_m)},
-                  {"rpe_frame_r_rad", Value(m.objects.rpe_frame_r_rad)},
-                  {"rpe_pairs_t_m", Value(m.objects.rpe_pairs_t_m)},
-                  {"rpe_pairs_r_rad", Value(m.objects.rpe_pairs_r_rad)},
-                  {"matched", Value(m.objects.matched)},
-                  {"gt", Value(m.objects.gt)},
-                  {"eligible", Value(m.objects.eligible)},
-                  {"found_eligible", Value(m.objects.found_eligible)},
-                  {"eligible_min_landmarks", Value(m.objects.eligible_min_landmarks)},
-                  {"reported", Value(m.objects.reported)},
-                  {"reported_on_movers", Value(m.objects.reported_on_movers)},
-                  {"precision", Value(m.objects.precision)},
-                  {"recall", Value(m.objects.recall)},
-                  {"static_in_objects_fraction", Value(m.objects.static_in_objects_fraction)},
-                  {"per_object", per_object}};
-  j["clustering"] = {{"accuracy", Value(m.clustering.accuracy)},
-                     {"vi", Value(m.clustering.vi)},
-                     {"clusters", Value(m.clustering.clusters)},
-                     {"gt_objects", Value(m.clustering.gt_objects)}};
-  j["landmarks"] = {{"rmse_m", Value(m.landmarks.rmse_m)}, {"count", Value(m.landmarks.count)}};
-  j["noise"] = {{"static_chi2_per_dof", Value(m.noise.static_chi2_per_dof)},
-                {"static_cut_fraction", Value(m.noise.static_cut_fraction)},
-                {"static_landmarks", Value(m.noise.static_landmarks)},
-                {"static_observations", Value(m.noise.static_observations)}};
-  j["log_chi2"] = Value(m.log_chi2);
-  j["timing"] = {{"total_s", Value(m.timing.total_s)},
-                 {"frontend_ms_per_frame", Value(m.timing.frontend_ms_per_frame)},
-                 {"backend_ms_per_window", Value(m.timing.backend_ms_per_window)},
-                 {"hz", Value(m.timing.hz)},
-                 {"peak_rss_mb", Value(m.timing.peak_rss_mb)}};
-  j["run"] = {{"interrupted", m.run.interrupted},
-              {"windows", m.run.windows},
-              {"failed_windows", m.run.failed_windows},
-              {"adjustment_failed_windows", m.run.adjustment_failed_windows},
-              {"tracking_lost", m.run.tracking_lost},
-              {"gaps", m.run.gaps}};
-  j["calibration"] = {
-      {"disparity_offset_px", Value(m.calibration.disparity_offset_px)},
-      {"disparity_offset_sigma_px", Value(m.calibration.disparity_offset_sigma_px)},
-      {"disparity_offset_applied_px", Value(m.calibration.disparity_offset_applied_px)},
-      {"disparity_offset_frames", Value(m.calibration.disparity_offset_frames)},
-      {"disparity_offset_yaw_rate", Value(m.calibration.disparity_offset_yaw_rate)},
-      {"disparity_offset_decision", Value(m.calibration.disparity_offset_decision)}};
-  j["ground_truth"] = {
-      {"cross_check", Value(m.ground_truth.cross_check)},
-      {"position_accuracy_median_m", Value(m.ground_truth.position_accuracy_median_m)},
-      {"cross_check_path_length_m", Value(m.ground_truth.cross_check_path_length_m)},
-      {"cross_check_ate_sim3_m", Value(m.ground_truth.cross_check_ate_sim3_m)},
-      {"camera_ate_sim3_vs_cross_check_m", Value(m.ground_truth.camera_ate_sim3_vs_cross_check_m)},
-      {"camera_sim3_scale_vs_cross_check", Value(m.ground_truth.camera_sim3_scale_vs_cross_check)}};
+  json j = json::object();
+  kRunMetricsFields(
+      m, [&](const char* key, const auto& v) { j[key] = Put(v); },
+      [&](const char* key, const auto& s, const auto& fields) { j[key] = WriteFields(fields, s); });
   j["conventions"] = {
       {"ate",
        "RMSE of translation after SE(3) Umeyama alignment (ate_sim3_m: Sim(3)); objects each "
@@ -136,102 +204,10 @@ nlohmann::json ToJson(const RunMetrics& m) {
 RunMetrics RunMetricsFromJson(const nlohmann::json& j, const std::string& source) {
   RunMetrics m;
   try {
-    if (!j.is_object()) {
-      throw InputError(source, "expected a JSON object");
-    }
-    if (j.contains("sequence") && j["sequence"].is_string()) {
-      m.sequence = j["sequence"].get<std::string>();
-    }
-    if (j.contains("method") && j["method"].is_string()) {
-      m.method = j["method"].get<std::string>();
-    }
-    Read(j, "frames", m.frames);
-    const json& c = Child(j, "camera");
-    Read(c, "ate_m", m.camera.ate_m);
-    Read(c, "ate_sim3_m", m.camera.ate_sim3_m);
-    Read(c, "sim3_scale", m.camera.sim3_scale);
-    Read(c, "rpe_frame_t_m", m.camera.rpe_frame_t_m);
-    Read(c, "rpe_frame_r_rad", m.camera.rpe_frame_r_rad);
-    Read(c, "rpe_pairs_t_m", m.camera.rpe_pairs_t_m);
-    Read(c, "rpe_pairs_r_rad", m.camera.rpe_pairs_r_rad);
-    Read(c, "path_length_m", m.camera.path_length_m);
-    Read(c, "gt_path_length_m", m.camera.gt_path_length_m);
-    const json& o = Child(j, "objects");
-    Read(o, "ate_m", m.objects.ate_m);
-    Read(o, "rpe_frame_t_m", m.objects.rpe_frame_t_m);
-    Read(o, "rpe_frame_r_rad", m.objects.rpe_frame_r_rad);
-    Read(o, "rpe_pairs_t_m", m.objects.rpe_pairs_t_m);
-    Read(o, "rpe_pairs_r_rad", m.objects.rpe_pairs_r_rad);
-    Read(o, "matched", m.objects.matched);
-    Read(o, "gt", m.objects.gt);
-    Read(o, "eligible", m.objects.eligible);
-    Read(o, "found_eligible", m.objects.found_eligible);
-    Read(o, "eligible_min_landmarks", m.objects.eligible_min_landmarks);
-    Read(o, "reported", m.objects.reported);
-    Read(o, "reported_on_movers", m.objects.reported_on_movers);
-    Read(o, "precision", m.objects.precision);
-    Read(o, "recall", m.objects.recall);
-    Read(o, "static_in_objects_fraction", m.objects.static_in_objects_fraction);
-    if (o.contains("per_object") && o["per_object"].is_array()) {
-      for (const json& e : o["per_object"]) {
-        RunMetrics::PerObject p;
-        if (e.contains("gt_object") && !e["gt_object"].is_null()) {
-          p.gt_object = e["gt_object"].get<int>();
-        }
-        Read(e, "cluster", p.cluster);
-        Read(e, "landmarks", p.landmarks);
-        Read(e, "ate_m", p.ate_m);
-        Read(e, "rpe_frame_t_m", p.rpe_frame_t_m);
-        Read(e, "rpe_frame_r_rad", p.rpe_frame_r_rad);
-        Read(e, "rpe_pairs_t_m", p.rpe_pairs_t_m);
-        Read(e, "rpe_pairs_r_rad", p.rpe_pairs_r_rad);
-        p.found = e.value("found", false);
-        m.objects.per_object.push_back(p);
-      }
-    }
-    const json& cl = Child(j, "clustering");
-    Read(cl, "accuracy", m.clustering.accuracy);
-    Read(cl, "vi", m.clustering.vi);
-    Read(cl, "clusters", m.clustering.clusters);
-    Read(cl, "gt_objects", m.clustering.gt_objects);
-    const json& l = Child(j, "landmarks");
-    Read(l, "rmse_m", m.landmarks.rmse_m);
-    Read(l, "count", m.landmarks.count);
-    const json& nz = Child(j, "noise");
-    Read(nz, "static_chi2_per_dof", m.noise.static_chi2_per_dof);
-    Read(nz, "static_cut_fraction", m.noise.static_cut_fraction);
-    Read(nz, "static_landmarks", m.noise.static_landmarks);
-    Read(nz, "static_observations", m.noise.static_observations);
-    Read(j, "log_chi2", m.log_chi2);
-    const json& t = Child(j, "timing");
-    Read(t, "total_s", m.timing.total_s);
-    Read(t, "frontend_ms_per_frame", m.timing.frontend_ms_per_frame);
-    Read(t, "backend_ms_per_window", m.timing.backend_ms_per_window);
-    Read(t, "hz", m.timing.hz);
-    Read(t, "peak_rss_mb", m.timing.peak_rss_mb);
-    const json& r = Child(j, "run");
-    if (r.is_object()) {
-      m.run.interrupted = r.value("interrupted", false);
-      m.run.windows = r.value("windows", 0);
-      m.run.failed_windows = r.value("failed_windows", std::vector<int>{});
-      m.run.adjustment_failed_windows = r.value("adjustment_failed_windows", std::vector<int>{});
-      m.run.tracking_lost = r.value("tracking_lost", std::vector<int>{});
-      m.run.gaps = r.value("gaps", std::vector<int>{});
-    }
-    const json& ca = Child(j, "calibration");
-    Read(ca, "disparity_offset_px", m.calibration.disparity_offset_px);
-    Read(ca, "disparity_offset_sigma_px", m.calibration.disparity_offset_sigma_px);
-    Read(ca, "disparity_offset_applied_px", m.calibration.disparity_offset_applied_px);
-    Read(ca, "disparity_offset_frames", m.calibration.disparity_offset_frames);
-    Read(ca, "disparity_offset_yaw_rate", m.calibration.disparity_offset_yaw_rate);
-    Read(ca, "disparity_offset_decision", m.calibration.disparity_offset_decision);
-    const json& g = Child(j, "ground_truth");
-    Read(g, "cross_check", m.ground_truth.cross_check);
-    Read(g, "position_accuracy_median_m", m.ground_truth.position_accuracy_median_m);
-    Read(g, "cross_check_path_length_m", m.ground_truth.cross_check_path_length_m);
-    Read(g, "cross_check_ate_sim3_m", m.ground_truth.cross_check_ate_sim3_m);
-    Read(g, "camera_ate_sim3_vs_cross_check_m", m.ground_truth.camera_ate_sim3_vs_cross_check_m);
-    Read(g, "camera_sim3_scale_vs_cross_check", m.ground_truth.camera_sim3_scale_vs_cross_check);
+    if (!j.is_object()) throw InputError(source, "expected a JSON object");
+    kRunMetricsFields(
+        m, [&](const char* key, auto& v) { Get(j, key, v); },
+        [&](const char* key, auto& s, const auto& fields) { ReadFields(fields, Child(j, key), s); });
   } catch (const nlohmann::json::exception& e) {
     throw InputError(source, std::string("unexpected value type: ") + e.what());
   }

@@ -144,6 +144,38 @@ TEST(MetricsJson, RunStatusRecordsInterruptionsFailuresAndGaps) {
   EXPECT_THROW(RunMetricsFromJson(old), InputError);
 }
 
+// Every field the writer puts out, the reader takes back: set each null of an empty
+// RunMetrics' JSON alone (a number, or a string where a number is refused) and write again.
+TEST(MetricsJson, EveryWrittenFieldIsReadBack) {
+  const nlohmann::json empty = ToJson(RunMetrics{});
+  int fields = 0;
+  const nlohmann::json flat_empty = empty.flatten();
+  for (auto it = flat_empty.begin(); it != flat_empty.end(); ++it) {
+    const std::string path = it.key();
+    // Empty lists flatten to null too; the per-object list is checked below.
+    if (!it.value().is_null() || empty.at(nlohmann::json::json_pointer(path)).is_array()) continue;
+    ++fields;
+    for (const nlohmann::json given : {nlohmann::json(2), nlohmann::json("x")}) {
+      nlohmann::json flat = empty.flatten();
+      flat[path] = given;
+      RunMetrics back;
+      try {
+        back = RunMetricsFromJson(flat.unflatten());
+      } catch (const InputError&) {
+        continue;
+      }
+      EXPECT_EQ(ToJson(back).flatten()[path], given) << path;
+      break;
+    }
+  }
+  EXPECT_GE(fields, 50) << fields;  // the loop saw the file
+  // The per-object list is read back element by element.
+  RunMetrics m;
+  m.objects.per_object.resize(2);
+  m.objects.per_object[1].rpe_pairs_r_rad = 0.25;
+  EXPECT_EQ(ToJson(RunMetricsFromJson(ToJson(m))), ToJson(m));
+}
+
 TEST(MetricsJson, WrongTypesAreInputErrors) {
   nlohmann::json j = {{"camera", {{"ate_m", "big"}}}};
   EXPECT_THROW(RunMetricsFromJson(j, "x.json"), InputError);
