@@ -8,19 +8,15 @@
 #include "system/pipeline/pipeline.h"
 #include "system/eval/trajectory.h"
 #include "system/pipeline/run_input.h"
+#include "system/run/run_trajectories.h"
 
 namespace cslam {
-
-/// Camera trajectory of a map as a Trajectory (frames with a pose only, with timestamps).
-Trajectory CameraTrajectory(const MapState& map, const std::vector<double>& timestamps);
-/// One moving cluster's trajectory (the frames where it has a pose).
-Trajectory ClusterTrajectory(const MapCluster& cluster, const std::vector<double>& timestamps);
 
 /// Writes trajectories (KITTI + TUM; camera_trajectory_gt.* with the ground truth of the same
 /// frames when the input has one), objects/, clusters.csv, landmarks.ply/.pcd,
 /// render/trajectory.png (RenderRunTrajectoryPlot), config.yaml and (when given) metrics.json into `out_dir`.
 void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                      const PipelineOptions& options, const std::string& out_dir,
-                     const RunMetrics* metrics);
+                     const RunTrajectories& trajectories, const RunMetrics* metrics);
 
 }  // namespace cslam
