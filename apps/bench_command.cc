@@ -24,7 +24,7 @@
 #include "core/logging.h"
 #include "core/timer.h"
 #include "system/io/image_io.h"
-#include "system/render/line_chart.h"
+#include "system/draw/line_chart.h"
 #include "system/run/bench_report.h"
 #include "system/run/bench_suite.h"
 #include "core/atomic_file.h"

@@ -6,9 +6,11 @@
 #include "apps/run_support.h"
 #include "core/logging.h"
 #include "system/pipeline/run_input.h"
+#include "system/run/offscreen_frame_painter.h"
 #include "system/synthetic/synthetic_image_io.h"
 #include "system/synthetic/synthetic_io.h"
 #include "system/synthetic/synthetic_scene.h"
+#include "system/synthetic_images/synthetic_image_writer.h"
 
 namespace cslam::apps {
 
@@ -52,6 +54,7 @@ int Demo(const DemoArgs& args) {
   if (args.flags.snapshots_every < 0) options.output.snapshots_every = 10;
   if (args.flags.overlays_every < 0) options.output.overlays_every = 10;
   options.out_dir = args.out;
+  options.painter = std::make_shared<OffscreenFramePainter>();
   GetLogger("app")->info("effective configuration:\n{}", options.ToYaml());
   StopFlag stop;
   ProgressBar bar("frames", args.flags.progress);

@@ -13,6 +13,7 @@
 #include "core/logging.h"
 #include "system/pipeline/pipeline.h"
 #include "system/pipeline/run_input.h"
+#include "system/run/offscreen_frame_painter.h"
 #include "system/run/run_metrics.h"
 #include "system/run/run_writer.h"
 
@@ -33,6 +34,7 @@ int Run(const RunArgs& args) {
   CheckMethodFitsInput(options.method, input);
   const std::string out = args.out.empty() ? "out/" + input.name : args.out;
   options.out_dir = out;
+  options.painter = std::make_shared<OffscreenFramePainter>();
   // The output folder is created only once the input and the configuration are known good.
   PrepareOutputFolder(out);
   AttachLogFile(out + "/run.log");

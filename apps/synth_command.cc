@@ -6,6 +6,7 @@
 #include "apps/command.h"
 #include "core/timer.h"
 #include "system/synthetic/synthetic_image_io.h"
+#include "system/synthetic_images/synthetic_image_writer.h"
 #include "system/synthetic/synthetic_io.h"
 #include "system/synthetic/synthetic_scene.h"
 

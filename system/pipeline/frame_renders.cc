@@ -1,36 +1,19 @@
 #include "system/pipeline/frame_renders.h"
 
 #include <filesystem>
-#include <iomanip>
 #include <map>
-#include <sstream>
 
 #include "core/errors.h"
 #include "core/logging.h"
 #include "system/io/image_io.h"
-#include "system/render/overlay_renderer.h"
+#include "system/draw/overlay_renderer.h"
 #include "system/runtime/thread_priority.h"
 
 namespace cslam {
 
-struct FrameRenders::Job {
-  int frame = 0;
-  bool snapshot = false, overlay = false;
-  std::vector<RenderPoint> points;
-  Pose world_from_cam = Pose::Identity();
-  std::vector<RenderTrajectory> recent;
-  std::vector<OverlayTrack> tracks;
-};
-
 namespace {
 
 bool Due(int frame, int every) { return every > 0 && frame % every == every - 1; }
-
-std::string Numbered(const std::string& dir, const char* stem, int frame) {
-  std::ostringstream name;
-  name << stem << "_" << std::setw(6) << std::setfill('0') << frame << ".png";
-  return (std::filesystem::path(dir) / name.str()).string();
-}
 
 // Landmarks where they are at `frame` (moving clusters at their pose then), and the recent
 // camera, ground-truth and cluster paths (clusters drawn through their landmarks' centroid:
@@ -78,21 +61,24 @@ void FillSnapshot(const MapState& map, const std::set<int>& reported, const RunI
 }  // namespace
 
 FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
-                           std::string out_dir, bool threaded, int writer_nice,
-                           CoreReservation* reservation)
+                           std::string out_dir, std::shared_ptr<const FramePainter> painter,
+                           bool threaded, int writer_nice, CoreReservation* reservation)
     : input_(input),
-      snapshots_every_(out_dir.empty() ? 0 : options.snapshots_every),
-      overlays_every_(out_dir.empty() || !input.has_images() ? 0 : options.overlays_every),
+      painter_(std::move(painter)),
+      snapshots_every_(out_dir.empty() || !painter_ ? 0 : options.snapshots_every),
+      overlays_every_(out_dir.empty() || !painter_ || !input.has_images() ? 0 : options.overlays_every),
       dense_(options.dense_snapshots && input.has_images()),
       render_dir_((std::filesystem::path(out_dir) / "render").string()) {
-  if (!out_dir.empty() && options.overlays_every > 0 && !input.has_images())
+  if (!out_dir.empty() && !painter_ && (options.snapshots_every > 0 || options.overlays_every > 0))
+    GetLogger("system")->info("snapshots and overlays: no renderer given, none are drawn");
+  if (!out_dir.empty() && painter_ && options.overlays_every > 0 && !input.has_images())
     GetLogger("system")->info("overlays need input images: none for {} input", NameOf(kInputKindNames, input.kind));
   if (!enabled() || !threaded) return;
-  queue_ = std::make_unique<BoundedQueue<Job>>(2);
+  queue_ = std::make_unique<BoundedQueue<FrameScene>>(2);
   writer_ = std::thread([this, writer_nice, reservation] {
     LowerThisThreadPriorityOrWarn(writer_nice, "render writer");
     const CoreReservation::Background background(reservation);
-    while (auto job = queue_->Pop()) Draw(*job);
+    while (auto scene = queue_->Pop()) Draw(*scene);
   });
 }
 
@@ -103,8 +89,9 @@ void FrameRenders::AfterWindow(const MapState& map, const std::set<int>& reporte
   if (!enabled()) return;
   for (; next_frame_ < range.end; ++next_frame_) {
     const int f = next_frame_;
-    Job job;
+    FrameScene job;
     job.frame = f;
+    job.dense = dense_;
     job.snapshot = Due(f, snapshots_every_);
     // A frame no window covered has no tracks to draw.
     job.overlay = Due(f, overlays_every_) && range.Contains(f);
@@ -131,27 +118,18 @@ void FrameRenders::AfterWindow(const MapState& map, const std::set<int>& reporte
   }
 }
 
-void FrameRenders::Draw(const Job& job) {
-  auto log = GetLogger("system");
+void FrameRenders::Draw(const FrameScene& scene) {
   try {
     std::optional<StereoFrame> images;
-    if (job.overlay || (job.snapshot && dense_)) images = input_.images->Load(job.frame);
-    if (job.snapshot) {
-      const cv::Mat picture =
-          dense_ ? RenderDenseSnapshot(job.points, job.world_from_cam, input_.camera, job.recent,
-                                       images->left, images->right, snapshot_options_)
-                 : RenderSnapshot(job.points, job.world_from_cam, input_.camera, job.recent,
-                                  snapshot_options_);
-      WritePng(picture, Numbered(render_dir_, "snapshot", job.frame));
-      ++stats_.snapshots;
-    }
-    if (job.overlay) {
-      WritePng(RenderOverlay(images->left, job.tracks), Numbered(render_dir_, "overlay", job.frame));
-      ++stats_.overlays;
-    }
+    if (scene.overlay || (scene.snapshot && scene.dense)) images = input_.images->Load(scene.frame);
+    painter_->Paint(scene, input_.camera, images ? images->left : cv::Mat(),
+                    images ? images->right : cv::Mat(), render_dir_);
+    stats_.snapshots += scene.snapshot;
+    stats_.overlays += scene.overlay;
   } catch (const std::exception& e) {
     // A picture is a by-product: the run goes on without it.
-    if (stats_.failed++ == 0) log->warn("render of frame {} failed: {}", job.frame, e.what());
+    if (stats_.failed++ == 0)
+      GetLogger("system")->warn("render of frame {} failed: {}", scene.frame, e.what());
   }
 }
 

@@ -13,7 +13,7 @@
 #include "system/map/map_state.h"
 #include "system/pipeline/pipeline_options.h"
 #include "system/pipeline/run_input.h"
-#include "system/render/snapshot_renderer.h"
+#include "system/pipeline/frame_painter.h"
 #include "system/runtime/bounded_queue.h"
 #include "system/runtime/core_reservation.h"
 
@@ -29,11 +29,13 @@ struct FrameRenderStats {
 /// Renders the per-frame pictures of OutputOptions into `out_dir`/render; see the file comment.
 class FrameRenders {
  public:
-  /// `threaded`: draw on a writer thread, its nice value raised by `writer_nice` (see
-  /// OnlineOptions::background_nice) and a background thread of `reservation` when given;
-  /// otherwise inline, in order (sequential runs).
+  /// `painter` (may be null: nothing is drawn) draws each due frame. `threaded`: on a writer
+  /// thread, its nice value raised by `writer_nice` (see OnlineOptions::background_nice) and a
+  /// background thread of `reservation` when given; otherwise inline, in order (sequential
+  /// runs).
   FrameRenders(const RunInput& input, const OutputOptions& options, std::string out_dir,
-               bool threaded, int writer_nice = 0, CoreReservation* reservation = nullptr);
+               std::shared_ptr<const FramePainter> painter, bool threaded, int writer_nice = 0,
+               CoreReservation* reservation = nullptr);
   ~FrameRenders();
   FrameRenders(const FrameRenders&) = delete;
   FrameRenders& operator=(const FrameRenders&) = delete;
@@ -54,17 +56,16 @@ class FrameRenders {
   static constexpr int kTrailFrames = 6;
 
  private:
-  struct Job;
-  void Draw(const Job& job);
+  void Draw(const FrameScene& scene);
 
   const RunInput& input_;
-  SnapshotOptions snapshot_options_;
+  std::shared_ptr<const FramePainter> painter_;
   int snapshots_every_ = 0, overlays_every_ = 0;
   bool dense_ = false;
   std::string render_dir_;
   int next_frame_ = 0;  ///< frames before this are done
   FrameRenderStats stats_;
-  std::unique_ptr<BoundedQueue<Job>> queue_;
+  std::unique_ptr<BoundedQueue<FrameScene>> queue_;
   std::thread writer_;
 };
 

@@ -83,7 +83,7 @@ class BackendStage {
                CoreReservation* reservation = nullptr)
       : camera_(input.camera), options_(options),
         backend_(backend ? backend : BackendFunction(RunBackend)), map_(options.map),
-        renders_(input, options.output, options.out_dir,
+        renders_(input, options.output, options.out_dir, options.painter,
                  !(options.mode == RunMode::kOnline && options.online.sequential),
                  options.mode == RunMode::kOnline ? options.online.background_nice : 0, reservation),
         reservation_(reservation) {}

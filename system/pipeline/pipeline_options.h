@@ -4,6 +4,7 @@
 //   calibration{}, output{}.
 // Defaults come from the preset (indoor / outdoor backend parameters), then the YAML file,
 // then command-line flags; the effective tree is saved beside the outputs (config.yaml).
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -17,6 +18,8 @@
 #include "system/pipeline/run_input.h"
 
 namespace cslam {
+
+class FramePainter;
 
 /// The online (sliding-window) system's scheduling (clusterslam_spec.md §7).
 struct OnlineOptions {
@@ -116,6 +119,9 @@ struct PipelineOptions {
   /// Set by the command, not read from YAML: the run's output folder, where snapshots and
   /// overlays are written during the run ("" = none are rendered).
   std::string out_dir;
+  /// Set by the command, not read from YAML: draws the snapshots and overlays (null: none are
+  /// drawn, whatever output asks; the pipeline links no renderer).
+  std::shared_ptr<const FramePainter> painter;
   /// Where the settings came from ("built-in defaults", a file, or a built-in config): for
   /// run.log and the first line of OUT/config.yaml. Not an option.
   std::string source = "built-in defaults";

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "system/render/render_scene.h"
+#include "system/draw/render_scene.h"
 
 namespace cslam {
 

@@ -6,8 +6,8 @@
 #include <string>
 
 #include "core/logging.h"
-#include "system/render/annotate.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/annotate.h"
+#include "system/draw/cluster_colors.h"
 #include "system/render/gl_draw.h"
 #include "system/render/offscreen_context.h"
 

@@ -8,7 +8,7 @@
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
 #include "system/render/dense_cloud.h"
-#include "system/render/render_scene.h"
+#include "system/draw/render_scene.h"
 #include "system/render/render_view.h"
 
 namespace cslam {

@@ -8,8 +8,8 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
-#include "system/render/annotate.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/annotate.h"
+#include "system/draw/cluster_colors.h"
 #include "system/render/gl_draw.h"
 #include "system/render/offscreen_context.h"
 

@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-#include "system/render/render_scene.h"
+#include "system/draw/render_scene.h"
 
 namespace cslam {
 

@@ -12,7 +12,7 @@
 #include "system/eval/trajectory_evaluation.h"
 #include "system/runtime/resource_log.h"
 #include "system/synthetic/synthetic_image_io.h"
-#include "system/synthetic/synthetic_landmark_truth.h"
+#include "system/synthetic_images/synthetic_landmark_truth.h"
 
 namespace cslam {
 

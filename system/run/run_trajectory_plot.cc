@@ -5,7 +5,7 @@
 #include <string>
 
 #include "core/logging.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "system/render/trajectory_plot.h"
 
 namespace cslam {

@@ -9,7 +9,7 @@
 #include "system/eval/trajectory_io.h"
 #include "system/io/image_io.h"
 #include "system/render/point_cloud_export.h"
-#include "system/render/render_scene.h"
+#include "system/draw/render_scene.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
 

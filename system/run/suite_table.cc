@@ -11,8 +11,8 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "system/io/image_io.h"
-#include "system/render/bar_chart.h"
-#include "system/render/line_chart.h"
+#include "system/draw/bar_chart.h"
+#include "system/draw/line_chart.h"
 #include "system/run/external_trajectory.h"
 #include "system/run/run_executor.h"
 

@@ -14,7 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "system/io/image_io.h"
-#include "system/render/line_chart.h"
+#include "system/draw/line_chart.h"
 
 namespace cslam {
 

@@ -9,11 +9,9 @@
 //   DIR/sequences/00/calib.txt             P0, P1 (KITTI)
 //   DIR/sequences/00/times.txt             seconds per frame
 //   DIR/poses/00.txt                       world_from_cam per frame (KITTI)
-#include <functional>
 #include <opencv2/core/mat.hpp>
 #include <string>
 
-#include "system/synthetic/synthetic_renderer.h"
 #include "system/synthetic/synthetic_scene.h"
 
 namespace cslam {
@@ -24,12 +22,11 @@ std::string SyntheticImagesDir(const std::string& dir);
 /// True when `dir` holds rendered images (sequences/00 with image_0/ and calib.txt; names only).
 bool HasSyntheticImages(const std::string& dir);
 
-/// Renders every frame of `sequence` (left, right, object ids) and writes the files above
-/// under `dir`, each atomically; `progress(done, total)` is called after each frame when set.
-/// Throws OutputError, ConfigError (bad options) or cslam::Error (OSMesa).
-void WriteSyntheticImages(const SyntheticSequence& sequence, const std::string& dir,
-                          const SyntheticRenderOptions& options,
-                          const std::function<void(int, int)>& progress = {});
+/// DIR/poses/00.txt: the camera poses beside the images.
+std::string SyntheticPosesFile(const std::string& dir);
+
+/// The file name of frame `frame` in image_0/, image_1/ and object_id/ ("000042.png").
+std::string SyntheticFrameFile(int frame);
 
 /// The object-id image (CV_16UC1) of frame `frame` written by WriteSyntheticImages. Throws
 /// InputError naming the file when it is missing or not a 16-bit single-channel PNG.

@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "tests/apps/subprocess.h"
 #include "tests/system/image_test_util.h"
 #include "tests/system/kitti_fixtures.h"

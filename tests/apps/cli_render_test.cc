@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "system/run/run_outputs_reader.h"
 #include "system/run/run_trajectory_plot.h"
 #include "tests/apps/subprocess.h"

@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include "core/errors.h"
 #include "system/eval/clustering_metrics.h"
+#include "system/pipeline/frame_painter.h"
 #include "system/synthetic/synthetic_scene.h"
 #include "tests/support/matchers.h"
 #include "tests/system/kitti_fixtures.h"
@@ -103,21 +105,56 @@ TEST(Pipeline, ForgettingOldObservationsChangesNoResult) {
   for (int l : kept.map.Landmarks()) EXPECT_EQ(forgot.map.ClusterOf(l), kept.map.ClusterOf(l));
 }
 
-TEST(Pipeline, SnapshotsOfDueFramesAreWrittenByTheWriterThread) {
+// Records what it is asked to paint, from whichever thread calls it.
+class RecordingPainter final : public FramePainter {
+ public:
+  void Paint(const FrameScene& scene, const StereoCamera&, const cv::Mat&, const cv::Mat&,
+             const std::string& render_dir) const override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    frames_.push_back(scene.frame);
+    snapshots_ += scene.snapshot;
+    overlays_ += scene.overlay;
+    with_points_ += scene.snapshot && !scene.points.empty() && !scene.recent.empty();
+    dir_ = render_dir;
+  }
+  mutable std::mutex mutex_;
+  mutable std::vector<int> frames_;
+  mutable int snapshots_ = 0, overlays_ = 0, with_points_ = 0;
+  mutable std::string dir_;
+};
+
+TEST(Pipeline, DueFramesAreHandedToThePainterInOrder) {
   testing::TempDir tmp("pipeline_snapshots");
   for (bool sequential : {false, true}) {
     PipelineOptions o = OnlineOptionsFor(sequential);
     o.output.snapshots_every = 10;
     o.output.overlays_every = 10;  // no images: asked for but nothing to draw on
     o.out_dir = (tmp.path() / (sequential ? "seq" : "thr")).string();
+    auto painter = std::make_shared<RecordingPainter>();
+    o.painter = painter;
     const PipelineResult r = RunPipeline(SmallSyntheticInput(), o);
     ASSERT_FALSE(r.error);
-    EXPECT_EQ(r.renders.snapshots, 4) << sequential;  // frames 9, 19, 29, 39
+    EXPECT_EQ(painter->frames_, (std::vector<int>{9, 19, 29, 39})) << sequential;
+    EXPECT_EQ(painter->snapshots_, 4);
+    EXPECT_EQ(painter->with_points_, 4);
+    EXPECT_EQ(painter->overlays_, 0);
+    EXPECT_EQ(painter->dir_, (std::filesystem::path(o.out_dir) / "render").string());
+    EXPECT_EQ(r.renders.snapshots, 4) << sequential;
     EXPECT_EQ(r.renders.overlays, 0);
     EXPECT_EQ(r.renders.failed, 0);
-    for (const char* name : {"snapshot_000009.png", "snapshot_000039.png"})
-      EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(o.out_dir) / "render" / name)) << name;
   }
+}
+
+TEST(Pipeline, WithoutAPainterNothingIsDrawn) {
+  testing::TempDir tmp("pipeline_no_painter");
+  PipelineOptions o = OnlineOptionsFor(true);
+  o.output.snapshots_every = 10;
+  o.out_dir = tmp.path().string();
+  const PipelineResult r = RunPipeline(SmallSyntheticInput(), o);
+  ASSERT_FALSE(r.error);
+  EXPECT_EQ(r.renders.snapshots, 0);
+  EXPECT_EQ(r.renders.failed, 0);
+  EXPECT_FALSE(std::filesystem::exists(tmp.path() / "render" / "snapshot_000009.png"));
 }
 
 TEST(Pipeline, ResourcesAreSampledOverTheRun) {

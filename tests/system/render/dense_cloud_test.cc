@@ -10,7 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "system/render/snapshot_renderer.h"
 #include "tests/system/image_test_util.h"
 

@@ -10,7 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 
 namespace cslam {
 namespace {

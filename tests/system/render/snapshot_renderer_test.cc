@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "tests/system/image_test_util.h"
 
 namespace cslam {

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <thread>
 
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "tests/system/image_test_util.h"
 
 namespace cslam {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "system/render/trajectory_plot.h"
 #include "tests/system/image_test_util.h"
 

@@ -1,4 +1,4 @@
-#include "system/render/line_chart.h"
+#include "system/draw/line_chart.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 
 #include <array>
 

@@ -1,8 +1,8 @@
-#include "system/render/bar_chart.h"
+#include "system/draw/bar_chart.h"
 
 #include <gtest/gtest.h>
 
-#include "system/render/line_chart.h"
+#include "system/draw/line_chart.h"
 
 namespace cslam {
 namespace {

@@ -1,9 +1,9 @@
-#include "system/synthetic/synthetic_landmark_truth.h"
+#include "system/synthetic_images/synthetic_landmark_truth.h"
 
 #include <cmath>
 #include <map>
 
-#include "system/synthetic/synthetic_renderer.h"
+#include "system/synthetic_images/synthetic_renderer.h"
 
 namespace cslam {
 

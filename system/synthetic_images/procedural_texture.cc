@@ -1,4 +1,4 @@
-#include "system/synthetic/procedural_texture.h"
+#include "system/synthetic_images/procedural_texture.h"
 
 #include <algorithm>
 #include <cmath>

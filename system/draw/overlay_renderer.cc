@@ -1,11 +1,11 @@
-#include "system/render/overlay_renderer.h"
+#include "system/draw/overlay_renderer.h"
 
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 
 namespace cslam {
 namespace {

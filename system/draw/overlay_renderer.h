@@ -5,13 +5,9 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
-namespace cslam {
+#include "system/draw/render_scene.h"
 
-/// One track to draw on the overlay.
-struct OverlayTrack {
-  int cluster = -1;                     ///< ColorForCluster id
-  std::vector<Eigen::Vector2d> trail;   ///< left-image pixels, oldest .. newest (current)
-};
+namespace cslam {
 
 /// The grey left image as BGR with every track's trail as an anti-aliased polyline in its
 /// cluster colour and a filled dot at its newest position. Moving clusters are drawn over

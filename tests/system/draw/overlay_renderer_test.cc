@@ -1,4 +1,4 @@
-#include "system/render/overlay_renderer.h"
+#include "system/draw/overlay_renderer.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
-#include "system/render/cluster_colors.h"
+#include "system/draw/cluster_colors.h"
 #include "tests/system/image_test_util.h"
 
 namespace cslam {

@@ -1,10 +1,10 @@
-#include "system/render/bar_chart.h"
+#include "system/draw/bar_chart.h"
 
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "system/render/line_chart.h"
+#include "system/draw/line_chart.h"
 
 namespace cslam {
 

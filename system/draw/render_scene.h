@@ -22,4 +22,10 @@ struct RenderTrajectory {
   bool dashed = false; ///< ground truth is drawn dashed
 };
 
+/// One keypoint track to draw on an overlay.
+struct OverlayTrack {
+  int cluster = -1;                     ///< ColorForCluster id
+  std::vector<Eigen::Vector2d> trail;   ///< left-image pixels, oldest .. newest (current)
+};
+
 }  // namespace cslam

@@ -1,4 +1,4 @@
-#include "system/render/annotate.h"
+#include "system/draw/annotate.h"
 
 #include <algorithm>
 #include <array>

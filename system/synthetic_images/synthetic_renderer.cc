@@ -1,4 +1,4 @@
-#include "system/synthetic/synthetic_renderer.h"
+#include "system/synthetic_images/synthetic_renderer.h"
 
 #include <GL/gl.h>
 
@@ -13,7 +13,7 @@
 #include "core/options_reader.h"
 #include "system/render/offscreen_context.h"
 #include "system/render/render_view.h"
-#include "system/synthetic/procedural_texture.h"
+#include "system/synthetic_images/procedural_texture.h"
 #include "system/synthetic/synthetic_scene.h"
 
 #ifndef GL_TEXTURE_MAX_ANISOTROPY_EXT

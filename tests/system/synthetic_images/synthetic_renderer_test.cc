@@ -3,7 +3,7 @@
 // matcher recovers the true disparities, the frontend tracks enough points to recover the
 // camera's motion, and the files open through the KITTI odometry reader and `cslam run`'s
 // input stage.
-#include "system/synthetic/synthetic_renderer.h"
+#include "system/synthetic_images/synthetic_renderer.h"
 
 #include <gtest/gtest.h>
 
@@ -17,10 +17,11 @@
 #include "frontend/stereo_matcher.h"
 #include "system/datasets/kitti_odometry_reader.h"
 #include "system/pipeline/run_input.h"
-#include "system/synthetic/procedural_texture.h"
+#include "system/synthetic_images/procedural_texture.h"
 #include "system/synthetic/synthetic_image_io.h"
+#include "system/synthetic_images/synthetic_image_writer.h"
 #include "system/synthetic/synthetic_io.h"
-#include "system/synthetic/synthetic_landmark_truth.h"
+#include "system/synthetic_images/synthetic_landmark_truth.h"
 #include "tests/system/image_test_util.h"
 #include "tests/system/kitti_fixtures.h"
 
