@@ -24,14 +24,18 @@ void CommitTemporaryFile(const std::string& tmp_path, const std::string& path) {
   }
 }
 
-void WriteFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& write) {
+void CreateParentFolder(const std::string& path) {
   const fs::path p(path);
   std::error_code ec;
   if (p.has_parent_path()) {
     fs::create_directories(p.parent_path(), ec);
     if (ec) throw OutputError(path, "cannot create the folder: " + ec.message());
   }
+}
+
+void WriteFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& write) {
+  CreateParentFolder(path);
   const std::string tmp = TemporaryPathFor(path);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -40,6 +44,7 @@ void WriteFileAtomically(const std::string& path,
     out.flush();
     if (!out) {
       out.close();
+      std::error_code ec;
       fs::remove(tmp, ec);
       throw OutputError(path, "write failed (disk full?)");
     }

@@ -19,4 +19,8 @@ void CommitTemporaryFile(const std::string& tmp_path, const std::string& path);
 /// format-sniffing writers still work): "dir/.name.tmp.ext".
 std::string TemporaryPathFor(const std::string& path);
 
+/// Creates the folder `path` is to be written in (and its parents); throws OutputError naming
+/// `path` when it cannot.
+void CreateParentFolder(const std::string& path);
+
 }  // namespace cslam

@@ -22,12 +22,7 @@ namespace fs = std::filesystem;
 /// Runs a PCL writer on the temporary name of `path` and renames the result into place.
 void WriteThroughTemporary(const std::string& path,
                            const std::function<int(const std::string&)>& write) {
-  const fs::path p(path);
-  std::error_code ec;
-  if (p.has_parent_path()) {
-    fs::create_directories(p.parent_path(), ec);
-    if (ec) throw OutputError(path, "cannot create the folder: " + ec.message());
-  }
+  CreateParentFolder(path);
   const std::string tmp = TemporaryPathFor(path);
   int status = -1;
   std::string reason = "the PCL writer failed (is the folder writable?)";
@@ -37,6 +32,7 @@ void WriteThroughTemporary(const std::string& path,
     reason = std::string("PCL: ") + e.what();
   }
   if (status < 0) {
+    std::error_code ec;
     fs::remove(tmp, ec);
     throw OutputError(path, reason);
   }
