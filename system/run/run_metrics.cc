@@ -2,15 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 #include "system/eval/box_labels.h"
 #include "system/eval/clustering_metrics.h"
 #include "system/eval/noise_check.h"
 #include "system/eval/trajectory_evaluation.h"
-#include "system/run/run_writer.h"
 #include "system/runtime/resource_log.h"
 #include "system/synthetic/synthetic_image_io.h"
 #include "system/synthetic/synthetic_landmark_truth.h"
@@ -105,7 +104,8 @@ std::map<int, int> FoundClusters(const std::vector<int>& truth, const std::vecto
   return found;
 }
 
-void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMetrics* m) {
+void SyntheticMetrics(const RunInput& input, const PipelineResult& result,
+                      const RunTrajectories& trajectories, RunMetrics* m) {
   const SyntheticSequence& seq = *input.synthetic;
   const MapState& map = result.map;
   const TrackletTable& table = result.table;
@@ -153,7 +153,7 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
           dst.push_back(lm_truth.in_object[ids[k]]);
         }
       const Pose object_from_cluster = AlignUmeyama(src, dst, false).rigid;
-      Trajectory est = ClusterTrajectory(cluster->second, input.timestamps), gt;
+      Trajectory est = trajectories.clusters.at(it->second), gt;
       for (size_t k = 0; k < est.size(); ++k) {
         est.poses[k] = est.poses[k] * object_from_cluster.inverse();
         gt.frames.push_back(est.frames[k]);
@@ -186,7 +186,8 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result, RunMe
   }
 }
 
-void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result, RunMetrics* m) {
+void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
+                           const RunTrajectories& trajectories, RunMetrics* m) {
   if (input.gt_boxes.empty() || !input.gt_world_from_cam) return;
   const MapState& map = result.map;
   const std::vector<int> moving = MovingTrackIds(input.gt_boxes, *input.gt_world_from_cam);
@@ -222,19 +223,20 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result, 
       std::map<int, Eigen::Vector3d> box_track;
       for (const auto& [f, p] : BoxCentreTrajectory(input.gt_boxes, *input.gt_world_from_cam, moving[k]))
         box_track[f] = p;
+      const Trajectory& track = trajectories.clusters.at(it->second);
       Trajectory gt, est;
-      for (const auto& [f, pose] : cluster->second.world_from_cluster) {
-        const auto b = box_track.find(f);
+      for (size_t i = 0; i < track.size(); ++i) {
+        const auto b = box_track.find(track.frames[i]);
         if (b == box_track.end()) continue;
         Pose e = Pose::Identity(), g = Pose::Identity();
-        e.translation() = pose * centroid;
+        e.translation() = track.poses[i] * centroid;
         g.translation() = b->second;
-        est.frames.push_back(f);
-        gt.frames.push_back(f);
+        est.frames.push_back(track.frames[i]);
+        gt.frames.push_back(track.frames[i]);
         est.poses.push_back(e);
         gt.poses.push_back(g);
-        est.timestamps.push_back(input.timestamps[f]);
-        gt.timestamps.push_back(input.timestamps[f]);
+        est.timestamps.push_back(track.timestamps[i]);
+        gt.timestamps.push_back(track.timestamps[i]);
       }
       if (gt.size() >= 2) {
         po = EvaluateObjectTrajectory(gt, est);
@@ -251,7 +253,8 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result, 
 }
 
 // The ground truth's cross-check (RunMetrics::GroundTruthCheck) over the frames processed.
-RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const PipelineResult& result) {
+RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const PipelineResult& result,
+                                              const Trajectory& camera_trajectory) {
   const GroundTruthCrossCheck& check = *input.gt_cross_check;
   RunMetrics::GroundTruthCheck g;
   g.cross_check = check.source;
@@ -270,7 +273,7 @@ RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const Pipel
   const Trajectory gt = GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, frames);
   g.cross_check_path_length_m = PathLength(second);
   g.cross_check_ate_sim3_m = Finite(ComputeAte(gt, second, true).rmse_m);
-  const AteResult camera = ComputeAte(second, CameraTrajectory(result.map, input.timestamps), true);
+  const AteResult camera = ComputeAte(second, camera_trajectory, true);
   g.camera_ate_sim3_vs_cross_check_m = Finite(camera.rmse_m);
   if (g.camera_ate_sim3_vs_cross_check_m) g.camera_sim3_scale_vs_cross_check = camera.alignment.scale;
   return g;
@@ -279,7 +282,7 @@ RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const Pipel
 }  // namespace
 
 RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result,
-                             const PipelineOptions& options) {
+                             const RunTrajectories& trajectories, const PipelineOptions& options) {
   RunMetrics m;
   m.sequence = input.name;
   m.frames = result.frames_processed;
@@ -291,13 +294,13 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   if (input.gt_world_from_cam && result.frames_processed > 1) {
     const Trajectory gt =
         GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, result.frames_processed);
-    m.camera = EvaluateCameraTrajectory(gt, CameraTrajectory(result.map, input.timestamps));
+    m.camera = EvaluateCameraTrajectory(gt, trajectories.camera);
   }
   if (input.gt_world_from_cam && input.gt_cross_check && result.frames_processed > 1)
-    m.ground_truth = CheckGroundTruth(input, result);
+    m.ground_truth = CheckGroundTruth(input, result, trajectories.camera);
   m.objects.reported = static_cast<int>(result.map.clusters().size());
-  if (input.synthetic) SyntheticMetrics(input, result, &m);
-  if (input.kind == InputKind::kKittiRaw) KittiRawObjectMetrics(input, result, &m);
+  if (input.synthetic) SyntheticMetrics(input, result, trajectories, &m);
+  if (input.kind == InputKind::kKittiRaw) KittiRawObjectMetrics(input, result, trajectories, &m);
   if (m.objects.gt && *m.objects.gt > 0)
     m.objects.recall = static_cast<double>(m.objects.matched.value_or(0)) / *m.objects.gt;
   {

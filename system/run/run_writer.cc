@@ -19,10 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-double TimestampOf(const std::vector<double>& timestamps, int frame) {
-  return frame < static_cast<int>(timestamps.size()) ? timestamps[frame] : 0.1 * frame;
-}
-
 // The frame each landmark was last observed in (where its world position is reported).
 int LastFrameOf(const TrackletTable& table, int landmark) {
   return landmark < table.num_landmarks() ? table.Span(landmark).last_frame : -1;
@@ -34,35 +30,14 @@ int FirstFrameOf(const TrackletTable& table, int landmark) {
 
 }  // namespace
 
-Trajectory CameraTrajectory(const MapState& map, const std::vector<double>& timestamps) {
-  Trajectory t;
-  for (int f = 0; f < map.num_frames(); ++f) {
-    if (!map.world_from_cam()[f]) continue;
-    t.frames.push_back(f);
-    t.timestamps.push_back(TimestampOf(timestamps, f));
-    t.poses.push_back(*map.world_from_cam()[f]);
-  }
-  return t;
-}
-
-Trajectory ClusterTrajectory(const MapCluster& cluster, const std::vector<double>& timestamps) {
-  Trajectory t;
-  for (const auto& [f, pose] : cluster.world_from_cluster) {
-    t.frames.push_back(f);
-    t.timestamps.push_back(TimestampOf(timestamps, f));
-    t.poses.push_back(pose);
-  }
-  return t;
-}
-
 void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
-                     const PipelineOptions& options, const std::string& out_dir,
-                     const RunMetrics* metrics) {
+                     const RunTrajectories& trajectories, const PipelineOptions& options,
+                     const std::string& out_dir, const RunMetrics* metrics) {
   auto log = GetLogger("system");
   const fs::path out(out_dir);
   const MapState& map = result.map;
 
-  const Trajectory camera = CameraTrajectory(map, input.timestamps);
+  const Trajectory& camera = trajectories.camera;
   WriteTrajectory(camera, (out / "camera_trajectory.txt").string(), TrajectoryFormat::kKitti);
   WriteTrajectory(camera, (out / "camera_trajectory.tum").string(), TrajectoryFormat::kTum);
   // KITTI files carry no frame numbers: say which frames the lines are when any is missing.
@@ -110,7 +85,7 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
   });
   for (const auto& [id, c] : map.clusters()) {
     if (!written(c)) continue;
-    const Trajectory& t = outputs.clusters[id] = ClusterTrajectory(c, input.timestamps);
+    const Trajectory& t = outputs.clusters[id] = trajectories.clusters.at(id);
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
     WriteTrajectory(t, stem + ".tum", TrajectoryFormat::kTum);

@@ -48,7 +48,8 @@ TEST(RunMetrics, GroundTruthCheckComparesTheSecondEstimateWithTheTruthAndTheCame
   }
   input.gt_cross_check = check;
 
-  const RunMetrics m = ComputeRunMetrics(input, result, PipelineOptions{});
+  const RunMetrics m = ComputeRunMetrics(
+      input, result, BuildRunTrajectories(result.map, input.timestamps), PipelineOptions{});
   ASSERT_TRUE(m.camera.ate_sim3_m.has_value());
   EXPECT_LT(*m.camera.ate_sim3_m, 1e-9);
   EXPECT_EQ(m.ground_truth.cross_check, "zig-zag");
@@ -73,7 +74,8 @@ TEST(RunMetrics, WithoutACrossCheckTheGroundTruthBlockIsEmpty) {
     input.timestamps.push_back(0.1 * f);
     input.gt_world_from_cam->push_back(Translation(0, 0, f));
   }
-  const RunMetrics m = ComputeRunMetrics(input, result, PipelineOptions{});
+  const RunMetrics m = ComputeRunMetrics(
+      input, result, BuildRunTrajectories(result.map, input.timestamps), PipelineOptions{});
   EXPECT_TRUE(m.camera.ate_m.has_value());
   EXPECT_FALSE(m.ground_truth.cross_check.has_value());
   EXPECT_FALSE(m.ground_truth.cross_check_ate_sim3_m.has_value());

@@ -57,7 +57,8 @@ TEST(RunWriter, LeavesOutAClusterWhoseLandmarksAllWentElsewhere) {
   input.timestamps.assign(15, 0.0);
   PipelineOptions options;
   const fs::path first = tmp.path() / "first";
-  WriteRunOutputs(input, result, options, first.string(), nullptr);
+  WriteRunOutputs(input, result, BuildRunTrajectories(result.map, input.timestamps), options,
+                  first.string(), nullptr);
   const int id = result.map.clusters().begin()->first;
   EXPECT_TRUE(fs::exists(first / "objects" / (std::to_string(id) + ".txt")));
   EXPECT_EQ(testing::Lines(testing::ReadText(first / "objects" / "index.csv")).size(), 2u);
@@ -68,7 +69,8 @@ TEST(RunWriter, LeavesOutAClusterWhoseLandmarksAllWentElsewhere) {
   ASSERT_EQ(result.map.clusters().count(id), 1u);
   ASSERT_EQ(result.map.clusters().at(id).num_landmarks, 0);
   const fs::path second = tmp.path() / "second";
-  WriteRunOutputs(input, result, options, second.string(), nullptr);
+  WriteRunOutputs(input, result, BuildRunTrajectories(result.map, input.timestamps), options,
+                  second.string(), nullptr);
   EXPECT_FALSE(fs::exists(second / "objects" / (std::to_string(id) + ".txt")));
   EXPECT_EQ(testing::Lines(testing::ReadText(second / "objects" / "index.csv")).size(), 1u);
   EXPECT_TRUE(fs::exists(second / "camera_trajectory.txt"));
@@ -94,7 +96,8 @@ TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCam
   input.timestamps.assign(15, 0.0);
   PipelineOptions options;
   options.source = "built-in configs/kitti_raw.yaml";
-  WriteRunOutputs(input, result, options, tmp.path().string(), nullptr);
+  WriteRunOutputs(input, result, BuildRunTrajectories(result.map, input.timestamps), options,
+                  tmp.path().string(), nullptr);
   const auto lines = testing::Lines(testing::ReadText(tmp.path() / "windows.csv"));
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0], "first_frame,last_frame,failed,adjustment_failed,backend_ms,integrate_ms,"
