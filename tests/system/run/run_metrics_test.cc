@@ -2,14 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/poses.h"
+
 namespace cslam {
 namespace {
 
-Pose Translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Eigen::Vector3d(x, y, z);
-  return p;
-}
+using testing::Translation;
 
 // A map whose camera drives 1 m per frame along z over `frames` frames, landmarks static.
 MapState StraightDrive(int frames) {

@@ -2,14 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/poses.h"
+
 namespace cslam {
 namespace {
 
-Pose Translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Eigen::Vector3d(x, y, z);
-  return p;
-}
+using testing::Translation;
 
 // One window over frames [0, 10): the camera drives along z, landmarks 0..3 are static and
 // 4..7 ride a body that slides along x.

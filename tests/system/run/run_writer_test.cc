@@ -5,17 +5,14 @@
 #include <filesystem>
 
 #include "tests/system/kitti_fixtures.h"
+#include "tests/support/poses.h"
 
 namespace cslam {
 namespace {
 
 namespace fs = std::filesystem;
 
-Pose Translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Eigen::Vector3d(x, y, z);
-  return p;
-}
+using testing::Translation;
 
 // A window over `range` with a camera driving forward along z, landmarks 0..5 static and
 // landmarks 6..9 on a body that slides sideways; `moving` false labels the body's landmarks
