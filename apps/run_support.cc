@@ -13,6 +13,7 @@
 #include "core/logging.h"
 #include "core/options_reader.h"
 #include "system/run/run_metrics.h"
+#include "system/run/run_trajectories.h"
 #include "system/run/run_writer.h"
 
 namespace cslam::apps {
@@ -143,8 +144,8 @@ int FinishRun(const RunInput& input, const PipelineResult& result, const Pipelin
               const std::string& out, const StopFlag& stop) {
   auto log = GetLogger("app");
   const RunTrajectories trajectories = BuildRunTrajectories(result.map, input.timestamps);
-  const RunMetrics metrics = ComputeRunMetrics(input, result, options, trajectories);
-  WriteRunOutputs(input, result, options, out, trajectories, &metrics);
+  const RunMetrics metrics = ComputeRunMetrics(input, result, trajectories, options);
+  WriteRunOutputs(input, result, trajectories, options, out, &metrics);
   std::printf("%s\n", SummarizeMetrics(metrics).c_str());
   std::printf("outputs: %s\n", out.c_str());
   if (result.error) std::rethrow_exception(result.error);

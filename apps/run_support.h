@@ -63,7 +63,8 @@ class ProgressBar {
   int last_percent_ = -1;
 };
 
-/// Computes metrics (when there is ground truth), writes every output, prints a summary and
+/// Builds the run's trajectories once, evaluates them (metrics, where there is ground truth)
+/// and writes them with every other output, prints a summary and
 /// returns the exit code: the pipeline's error is rethrown after the outputs are written;
 /// 130/143 after SIGINT/SIGTERM.
 int FinishRun(const RunInput& input, const PipelineResult& result, const PipelineOptions& options,

@@ -12,6 +12,43 @@
 
 namespace cslam {
 
+// bench.json's tables; the keys that are not members (an entry's method key and label, error
+// and metrics, the means' columns) are written beside them.
+
+template <>
+struct JsonFields<BenchMethod> {
+  using S = BenchMethod;
+  static constexpr auto kFields = std::tuple{
+      JsonField{"key", &S::key},
+      JsonField{"label", &S::label},
+      JsonField{"method", &S::method},
+      JsonField{"ablation", &S::ablation},
+  };
+};
+
+template <>
+struct JsonFields<BenchEntry> {
+  using S = BenchEntry;
+  static constexpr auto kFields = std::tuple{
+      JsonField{"sequence", &S::sequence},
+      JsonField{"preset", &S::preset},
+      JsonField{"seed", &S::seed},
+      JsonField{"noise_px", &S::noise_px},
+      JsonField{"chunk_length", &S::chunk_length},
+      JsonField{"ok", &S::ok},
+  };
+};
+
+template <>
+struct JsonFields<BenchMeans> {
+  using S = BenchMeans;
+  static constexpr auto kFields = std::tuple{
+      JsonField{"preset", &S::preset}, JsonField{"method", &S::method},
+      JsonField{"label", &S::label},   JsonField{"runs", &S::runs},
+      JsonField{"failed", &S::failed},
+  };
+};
+
 namespace {
 
 using nlohmann::json;
@@ -21,11 +58,6 @@ constexpr double kDeg = 180.0 / std::numbers::pi;
 std::optional<double> Scaled(const std::optional<double>& v, double s) {
   if (!v || !std::isfinite(*v)) return std::nullopt;
   return *v * s;
-}
-
-json Number(const std::optional<double>& v) {
-  if (!v || !std::isfinite(*v)) return nullptr;
-  return *v;
 }
 
 std::string Cell(const std::optional<double>& v, int precision) {
@@ -51,15 +83,9 @@ std::string Escape(const std::string& s) {
 }
 
 json EntryJson(const BenchEntry& e) {
-  json j;
-  j["sequence"] = e.sequence;
-  j["preset"] = e.preset;
-  j["seed"] = e.seed;
-  j["noise_px"] = e.noise_px;
-  j["chunk_length"] = e.chunk_length;
+  json j = FieldsToJson(e);
   j["method"] = e.method.key;
   j["label"] = e.method.label;
-  j["ok"] = e.ok;
   j["error"] = e.ok ? json(nullptr) : json(e.error);
   if (e.ok) {
     json m = ToJson(e.metrics);
@@ -72,13 +98,9 @@ json EntryJson(const BenchEntry& e) {
 }
 
 json MeansJson(const BenchMeans& m) {
-  json j;
-  j["preset"] = m.preset;
-  j["method"] = m.method;
-  j["label"] = m.label;
-  j["runs"] = m.runs;
-  j["failed"] = m.failed;
-  for (size_t c = 0; c < BenchColumns().size(); ++c) j[BenchColumns()[c].key] = Number(m.values[c]);
+  json j = FieldsToJson(m);
+  for (size_t c = 0; c < BenchColumns().size(); ++c)
+    j[BenchColumns()[c].key] = FieldValueToJson(m.values[c]);
   return j;
 }
 
@@ -166,14 +188,11 @@ json BenchToJson(const BenchReport& r) {
   j["frames"] = r.options.frames;
   j["seeds_indoor"] = r.options.seeds_indoor;
   j["seeds_outdoor"] = r.options.seeds_outdoor;
-  j["noise_px"] = Number(r.options.noise_px);
+  j["noise_px"] = FieldValueToJson(r.options.noise_px);
   j["mode"] = "batch";
   j["interrupted"] = r.interrupted;
   j["total_s"] = r.total_s;
-  json methods = json::array();
-  for (const BenchMethod& m : r.methods)
-    methods.push_back({{"key", m.key}, {"label", m.label}, {"method", m.method}, {"ablation", m.ablation}});
-  j["methods"] = methods;
+  j["methods"] = FieldValueToJson(r.methods);
   json columns = json::array();
   for (const BenchColumn& c : BenchColumns()) columns.push_back({{"key", c.key}, {"header", c.header}});
   j["columns"] = columns;

@@ -106,8 +106,8 @@ BenchEntry RunBenchEntry(const RunInput& input, const BenchSequence& sequence,
     if (result.interrupted) throw std::runtime_error("interrupted");
     if (!result.windows.empty() && result.windows.front().failed)
       throw std::runtime_error("the backend gave no usable estimate (non-finite or empty)");
-    e.metrics = ComputeRunMetrics(input, result, options,
-                                  BuildRunTrajectories(result.map, input.timestamps));
+    e.metrics = ComputeRunMetrics(input, result, BuildRunTrajectories(result.map, input.timestamps),
+                                  options);
     e.ok = true;
   } catch (const std::exception& ex) {
     e.error = ex.what();

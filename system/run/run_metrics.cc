@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 #include "system/eval/box_labels.h"
@@ -223,22 +223,20 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
       std::map<int, Eigen::Vector3d> box_track;
       for (const auto& [f, p] : BoxCentreTrajectory(input.gt_boxes, *input.gt_world_from_cam, moving[k]))
         box_track[f] = p;
-      Trajectory gt, est;
       const Trajectory& track = trajectories.clusters.at(it->second);
-      for (size_t j = 0; j < track.size(); ++j) {
-        const int f = track.frames[j];
-        const Pose& pose = track.poses[j];
-        const auto b = box_track.find(f);
+      Trajectory gt, est;
+      for (size_t i = 0; i < track.size(); ++i) {
+        const auto b = box_track.find(track.frames[i]);
         if (b == box_track.end()) continue;
         Pose e = Pose::Identity(), g = Pose::Identity();
-        e.translation() = pose * centroid;
+        e.translation() = track.poses[i] * centroid;
         g.translation() = b->second;
-        est.frames.push_back(f);
-        gt.frames.push_back(f);
+        est.frames.push_back(track.frames[i]);
+        gt.frames.push_back(track.frames[i]);
         est.poses.push_back(e);
         gt.poses.push_back(g);
-        est.timestamps.push_back(input.timestamps[f]);
-        gt.timestamps.push_back(input.timestamps[f]);
+        est.timestamps.push_back(track.timestamps[i]);
+        gt.timestamps.push_back(track.timestamps[i]);
       }
       if (gt.size() >= 2) {
         po = EvaluateObjectTrajectory(gt, est);
@@ -256,7 +254,7 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
 
 // The ground truth's cross-check (RunMetrics::GroundTruthCheck) over the frames processed.
 RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const PipelineResult& result,
-                                              const Trajectory& camera_estimate) {
+                                              const Trajectory& camera_trajectory) {
   const GroundTruthCrossCheck& check = *input.gt_cross_check;
   RunMetrics::GroundTruthCheck g;
   g.cross_check = check.source;
@@ -275,7 +273,7 @@ RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const Pipel
   const Trajectory gt = GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, frames);
   g.cross_check_path_length_m = PathLength(second);
   g.cross_check_ate_sim3_m = Finite(ComputeAte(gt, second, true).rmse_m);
-  const AteResult camera = ComputeAte(second, camera_estimate, true);
+  const AteResult camera = ComputeAte(second, camera_trajectory, true);
   g.camera_ate_sim3_vs_cross_check_m = Finite(camera.rmse_m);
   if (g.camera_ate_sim3_vs_cross_check_m) g.camera_sim3_scale_vs_cross_check = camera.alignment.scale;
   return g;
@@ -284,7 +282,7 @@ RunMetrics::GroundTruthCheck CheckGroundTruth(const RunInput& input, const Pipel
 }  // namespace
 
 RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result,
-                             const PipelineOptions& options, const RunTrajectories& trajectories) {
+                             const RunTrajectories& trajectories, const PipelineOptions& options) {
   RunMetrics m;
   m.sequence = input.name;
   m.frames = result.frames_processed;

@@ -10,10 +10,10 @@
 
 namespace cslam {
 
-/// Metrics of a finished run; fields without ground truth stay unset (null in JSON).
-/// `trajectories`: the run's, built from result.map (BuildRunTrajectories).
+/// Metrics of a finished run, its trajectories evaluated as given (BuildRunTrajectories of its
+/// map); fields without ground truth stay unset (null in JSON).
 RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result,
-                             const PipelineOptions& options, const RunTrajectories& trajectories);
+                             const RunTrajectories& trajectories, const PipelineOptions& options);
 
 /// One-paragraph human summary of the metrics (printed by `cslam run` and `cslam demo`).
 std::string SummarizeMetrics(const RunMetrics& metrics);

@@ -34,8 +34,9 @@ Trajectory ClusterTrajectory(const MapCluster& cluster, const std::vector<double
 RunTrajectories BuildRunTrajectories(const MapState& map, const std::vector<double>& timestamps) {
   RunTrajectories t;
   t.camera = CameraTrajectory(map, timestamps);
-  for (const auto& [id, c] : map.clusters())
-    if (!c.world_from_cluster.empty()) t.clusters.emplace(id, ClusterTrajectory(c, timestamps));
+  for (const auto& [id, cluster] : map.clusters())
+    if (!cluster.world_from_cluster.empty())
+      t.clusters[id] = ClusterTrajectory(cluster, timestamps);
   return t;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The trajectories of a finished run, built once from its map: what the metrics evaluate and
-// the output files hold are the same values.
+// A finished run's trajectories, built once from its map: the metrics evaluate them and the
+// writer writes them, so both see the very same poses and timestamps.
 #include <map>
 #include <vector>
 
@@ -9,14 +9,15 @@
 
 namespace cslam {
 
-/// The camera's trajectory and each moving cluster's, with timestamps, over the frames the
-/// map has a pose at.
+/// The camera's and every moving cluster's trajectory of a map; each pose carries its frame
+/// index and timestamp (seconds).
 struct RunTrajectories {
-  Trajectory camera;
-  std::map<int, Trajectory> clusters;  ///< moving cluster id → its poses (clusters with any)
+  Trajectory camera;                   ///< the frames with a camera pose
+  std::map<int, Trajectory> clusters;  ///< by cluster id, every map cluster with a pose
 };
 
-/// Builds them from `map`; `timestamps` per frame (frames past its end get 0.1 s steps).
+/// The trajectories of `map`, timestamped from `timestamps` (frame index → seconds; frames
+/// past its end get 0.1 s per frame).
 RunTrajectories BuildRunTrajectories(const MapState& map, const std::vector<double>& timestamps);
 
 }  // namespace cslam

@@ -8,8 +8,8 @@
 #include "core/logging.h"
 #include "system/eval/trajectory_io.h"
 #include "system/io/image_io.h"
-#include "system/render/point_cloud_export.h"
 #include "system/draw/render_scene.h"
+#include "system/render/point_cloud_export.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
 
@@ -18,10 +18,6 @@ namespace cslam {
 namespace fs = std::filesystem;
 
 namespace {
-
-double TimestampOf(const std::vector<double>& timestamps, int frame) {
-  return frame < static_cast<int>(timestamps.size()) ? timestamps[frame] : 0.1 * frame;
-}
 
 // The frame each landmark was last observed in (where its world position is reported).
 int LastFrameOf(const TrackletTable& table, int landmark) {
@@ -35,8 +31,8 @@ int FirstFrameOf(const TrackletTable& table, int landmark) {
 }  // namespace
 
 void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
-                     const PipelineOptions& options, const std::string& out_dir,
-                     const RunTrajectories& trajectories, const RunMetrics* metrics) {
+                     const RunTrajectories& trajectories, const PipelineOptions& options,
+                     const std::string& out_dir, const RunMetrics* metrics) {
   auto log = GetLogger("system");
   const fs::path out(out_dir);
   const MapState& map = result.map;

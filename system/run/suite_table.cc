@@ -18,6 +18,35 @@
 
 namespace cslam {
 
+// bench.json's tables; a row's log tail, column values and metrics and the means' column
+// values are written beside them.
+
+template <>
+struct JsonFields<SuiteRow> {
+  using S = SuiteRow;
+  static constexpr auto kFields = std::tuple{
+      JsonField{"id", &S::id},
+      JsonField{"entry", &S::entry},
+      JsonField{"drive", &S::drive},
+      JsonField{"system", &S::system},
+      JsonField{"external", &S::external},
+      JsonField{"status", &S::status},
+      JsonField{"exit_code", &S::exit_code},
+      JsonField{"error", &S::error},
+  };
+};
+
+template <>
+struct JsonFields<SuiteMeans> {
+  using S = SuiteMeans;
+  static constexpr auto kFields = std::tuple{
+      JsonField{"system", &S::system},
+      JsonField{"rows", &S::rows},
+      JsonField{"ok", &S::ok},
+      JsonField{"failed", &S::failed},
+  };
+};
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -31,10 +60,6 @@ std::string Num(const std::optional<double>& v, int precision) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", precision, *v);
   return buf;
-}
-
-nlohmann::json Opt(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
 
 // The first line of the log that says what went wrong ("error:"), else its last line.
@@ -197,18 +222,11 @@ nlohmann::json SuiteToJson(const SuiteTable& table) {
   const auto& columns = SuiteColumns();
   json rows = json::array();
   for (const SuiteRow& r : table.rows) {
-    json j = {{"id", r.id},
-              {"entry", r.entry},
-              {"drive", r.drive},
-              {"system", r.system},
-              {"external", r.external},
-              {"status", r.status},
-              {"exit_code", r.exit_code ? json(*r.exit_code) : json(nullptr)},
-              {"error", r.error}};
+    json j = FieldsToJson(r);
     if (!r.log_tail.empty()) j["log_tail"] = r.log_tail;
     json values = json::object();
     for (const SuiteColumn& c : columns)
-      values[c.key] = r.metrics ? Opt(c.value(*r.metrics)) : json(nullptr);
+      values[c.key] = r.metrics ? FieldValueToJson(c.value(*r.metrics)) : json(nullptr);
     j["values"] = values;
     j["metrics"] = r.metrics ? ToJson(*r.metrics) : json(nullptr);
     rows.push_back(j);
@@ -216,9 +234,11 @@ nlohmann::json SuiteToJson(const SuiteTable& table) {
   json means = json::array();
   for (const SuiteMeans& g : table.Means()) {
     json values = json::object();
-    for (size_t c = 0; c < columns.size(); ++c) values[columns[c].key] = Opt(g.values[c]);
-    means.push_back({{"system", g.system}, {"rows", g.rows}, {"ok", g.ok}, {"failed", g.failed},
-                     {"values", values}});
+    for (size_t c = 0; c < columns.size(); ++c)
+      values[columns[c].key] = FieldValueToJson(g.values[c]);
+    json mean = FieldsToJson(g);
+    mean["values"] = values;
+    means.push_back(mean);
   }
   return {{"manifest", table.manifest},
           {"executor", table.executor},

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <type_traits>
 
 #include "core/errors.h"
 
@@ -144,36 +145,74 @@ TEST(MetricsJson, RunStatusRecordsInterruptionsFailuresAndGaps) {
   EXPECT_THROW(RunMetricsFromJson(old), InputError);
 }
 
-// Every field the writer puts out, the reader takes back: set each null of an empty
-// RunMetrics' JSON alone (a number, or a string where a number is refused) and write again.
-TEST(MetricsJson, EveryWrittenFieldIsReadBack) {
-  const nlohmann::json empty = ToJson(RunMetrics{});
-  int fields = 0;
-  const nlohmann::json flat_empty = empty.flatten();
-  for (auto it = flat_empty.begin(); it != flat_empty.end(); ++it) {
-    const std::string path = it.key();
-    // Empty lists flatten to null too; the per-object list is checked below.
-    if (!it.value().is_null() || empty.at(nlohmann::json::json_pointer(path)).is_array()) continue;
-    ++fields;
-    for (const nlohmann::json given : {nlohmann::json(2), nlohmann::json("x")}) {
-      nlohmann::json flat = empty.flatten();
-      flat[path] = given;
-      RunMetrics back;
-      try {
-        back = RunMetricsFromJson(flat.unflatten());
-      } catch (const InputError&) {
-        continue;
-      }
-      EXPECT_EQ(ToJson(back).flatten()[path], given) << path;
-      break;
+// Sets every field of the tables, nested ones too, to a value unlike its default and unlike
+// every other field's, so a field read back into the wrong member cannot go unnoticed.
+struct FillEveryField {
+  int next = 1;
+
+  template <typename T>
+  void operator()(T& v) {
+    if constexpr (JsonDescribed<T>) {
+      ForEachJsonField<T>([&](const auto& field) { (*this)(v.*field.member); });
+    } else if constexpr (std::is_same_v<T, std::vector<RunMetrics::PerObject>>) {
+      v.resize(2);
+      for (auto& e : v) (*this)(e);
+    } else if constexpr (std::is_same_v<T, std::vector<int>>) {
+      v = {next++, next++};
+    } else if constexpr (std::is_same_v<T, bool>) {
+      v = !v;
+    } else if constexpr (std::is_same_v<T, std::string> ||
+                         std::is_same_v<T, std::optional<std::string>>) {
+      v = "text " + std::to_string(next++);
+    } else if constexpr (std::is_same_v<T, std::optional<double>>) {
+      v = next++ + 0.125;
+    } else {
+      v = next++;  // int and long long, optional or not
     }
   }
-  EXPECT_GE(fields, 50) << fields;  // the loop saw the file
-  // The per-object list is read back element by element.
+};
+
+// Every key of the tables is in `j`, and no leaf is null.
+template <typename S>
+void ExpectEveryKeyWritten(const nlohmann::json& j, const std::string& path) {
+  ForEachJsonField<S>([&](const auto& field) {
+    const std::string key = path + field.key;
+    ASSERT_TRUE(j.contains(field.key)) << key;
+    using Member = std::remove_cvref_t<decltype(std::declval<S>().*field.member)>;
+    const nlohmann::json& v = j[field.key];
+    if constexpr (JsonDescribed<Member>) {
+      ExpectEveryKeyWritten<Member>(v, key + ".");
+    } else if constexpr (std::is_same_v<Member, std::vector<RunMetrics::PerObject>>) {
+      ASSERT_TRUE(v.is_array()) << key;
+      for (const nlohmann::json& e : v)
+        ExpectEveryKeyWritten<RunMetrics::PerObject>(e, key + "[].");
+    } else {
+      EXPECT_FALSE(v.is_null()) << key;
+    }
+  });
+}
+
+TEST(MetricsJson, EveryFieldOfTheTablesIsWrittenAndReadBackIntoItsMember) {
   RunMetrics m;
-  m.objects.per_object.resize(2);
-  m.objects.per_object[1].rpe_pairs_r_rad = 0.25;
-  EXPECT_EQ(ToJson(RunMetricsFromJson(ToJson(m))), ToJson(m));
+  FillEveryField{}(m);
+  const nlohmann::json j = ToJson(m);
+  ExpectEveryKeyWritten<RunMetrics>(j, "");
+  EXPECT_TRUE(RunMetricsFromJson(j) == m);
+  // Text through a file as well: numbers keep their type and value.
+  EXPECT_TRUE(RunMetricsFromJson(nlohmann::json::parse(j.dump(2))) == m);
+}
+
+TEST(MetricsJson, AWrongTypeNamesTheFileAndTheKey) {
+  nlohmann::json j = ToJson(RunMetrics{});
+  j["objects"]["per_object"] = {{{"gt_object", 1}, {"cluster", "seven"}}};
+  try {
+    RunMetricsFromJson(j, "runs/a/metrics.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("runs/a/metrics.json"), std::string::npos) << what;
+    EXPECT_NE(what.find("objects.per_object[0].cluster"), std::string::npos) << what;
+  }
 }
 
 TEST(MetricsJson, WrongTypesAreInputErrors) {

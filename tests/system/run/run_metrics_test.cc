@@ -2,14 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/poses.h"
+
 namespace cslam {
 namespace {
 
-Pose Translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Eigen::Vector3d(x, y, z);
-  return p;
-}
+using testing::Translation;
 
 // A map whose camera drives 1 m per frame along z over `frames` frames, landmarks static.
 MapState StraightDrive(int frames) {
@@ -48,8 +46,8 @@ TEST(RunMetrics, GroundTruthCheckComparesTheSecondEstimateWithTheTruthAndTheCame
   }
   input.gt_cross_check = check;
 
-  const RunMetrics m = ComputeRunMetrics(input, result, PipelineOptions{},
-                                           BuildRunTrajectories(result.map, input.timestamps));
+  const RunMetrics m = ComputeRunMetrics(
+      input, result, BuildRunTrajectories(result.map, input.timestamps), PipelineOptions{});
   ASSERT_TRUE(m.camera.ate_sim3_m.has_value());
   EXPECT_LT(*m.camera.ate_sim3_m, 1e-9);
   EXPECT_EQ(m.ground_truth.cross_check, "zig-zag");
@@ -74,8 +72,8 @@ TEST(RunMetrics, WithoutACrossCheckTheGroundTruthBlockIsEmpty) {
     input.timestamps.push_back(0.1 * f);
     input.gt_world_from_cam->push_back(Translation(0, 0, f));
   }
-  const RunMetrics m = ComputeRunMetrics(input, result, PipelineOptions{},
-                                           BuildRunTrajectories(result.map, input.timestamps));
+  const RunMetrics m = ComputeRunMetrics(
+      input, result, BuildRunTrajectories(result.map, input.timestamps), PipelineOptions{});
   EXPECT_TRUE(m.camera.ate_m.has_value());
   EXPECT_FALSE(m.ground_truth.cross_check.has_value());
   EXPECT_FALSE(m.ground_truth.cross_check_ate_sim3_m.has_value());

@@ -8,6 +8,7 @@
 #include "core/errors.h"
 #include "system/eval/trajectory_io.h"
 #include "tests/system/kitti_fixtures.h"
+#include "tests/support/poses.h"
 
 namespace cslam {
 namespace {
@@ -15,11 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-Pose Translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Eigen::Vector3d(x, y, z);
-  return p;
-}
+using testing::Translation;
 
 Trajectory Straight(const std::vector<int>& frames, double x) {
   Trajectory t;

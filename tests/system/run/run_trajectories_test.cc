@@ -2,55 +2,60 @@
 
 #include <gtest/gtest.h>
 
-#include "tests/support/matchers.h"
+#include "tests/support/poses.h"
 
 namespace cslam {
 namespace {
 
-Pose Shifted(double x) {
-  Pose p = Pose::Identity();
-  p.translation().x() = x;
-  return p;
-}
+using testing::Translation;
 
-// One window of three frames: the camera moves 1 m per frame, cluster 1 is seen in frames
-// 1 and 2 and moves 2 m per frame.
-MotionEstimate OneWindow() {
+// One window over frames [0, 10): the camera drives along z, landmarks 0..3 are static and
+// 4..7 ride a body that slides along x.
+MapState MapWithOneMovingBody() {
   MotionEstimate e;
-  e.range = {0, 3};
-  for (int f = 0; f < 3; ++f) e.world_from_cam.push_back(Shifted(f));
-  e.landmark_cluster = {0, 1, 1, 1};
-  e.landmark_in_cluster = {{0, 0, 10}, {1, 0, 10}, {0, 1, 10}, {0, 0, 11}};
-  ClusterMotion m;
-  m.cluster = 1;
-  for (int f = 1; f < 3; ++f) {
-    m.frames.push_back(f);
-    m.world_from_cluster.push_back(Shifted(2.0 * f));
-    m.cam_from_cluster.push_back(Shifted(f).inverse() * Shifted(2.0 * f));
+  e.range = {0, 10};
+  for (int f = 0; f < 10; ++f) e.world_from_cam.push_back(Translation(0, 0, f));
+  for (int l = 0; l < 8; ++l) {
+    e.landmark_cluster.push_back(l >= 4 ? 1 : 0);
+    e.landmark_in_cluster.emplace_back(l % 3 - 1.0, l % 2 - 0.5, 10.0 + l);
   }
-  e.clusters.push_back(m);
-  return e;
-}
-
-TEST(RunTrajectories, HoldTheMapsPosesWithTheirFramesAndTimestamps) {
+  ClusterMotion body;
+  body.cluster = 1;
+  for (int f = 0; f < 10; ++f) {
+    body.frames.push_back(f);
+    body.world_from_cluster.push_back(Translation(0.5 * f, 0, 0));
+    body.cam_from_cluster.push_back(e.world_from_cam[f].inverse() * body.world_from_cluster.back());
+  }
+  e.clusters.push_back(body);
   MapState map;
-  map.Integrate(OneWindow());
-  // Two timestamps for three frames: the third gets the 10 Hz default.
-  const RunTrajectories t = BuildRunTrajectories(map, {0.0, 0.05});
-  EXPECT_EQ(t.camera.frames, (std::vector<int>{0, 1, 2}));
-  EXPECT_EQ(t.camera.timestamps, (std::vector<double>{0.0, 0.05, 0.2}));
-  for (int f = 0; f < 3; ++f)
-    EXPECT_TRUE(testing::PoseNear(t.camera.poses[f], Shifted(f), 1e-12, 1e-12)) << f;
-  ASSERT_EQ(t.clusters.size(), 1u);
-  const Trajectory& c = t.clusters.begin()->second;
-  EXPECT_EQ(c.frames, (std::vector<int>{1, 2}));
-  EXPECT_NEAR((c.poses[1].translation() - c.poses[0].translation()).x(), 2.0, 1e-12);
+  map.Integrate(e);
+  return map;
 }
 
-TEST(RunTrajectories, AnEmptyMapHasNone) {
-  const RunTrajectories t = BuildRunTrajectories(MapState{}, {});
-  EXPECT_EQ(t.camera.size(), 0u);
-  EXPECT_TRUE(t.clusters.empty());
+TEST(RunTrajectories, HoldTheMapsCameraAndClusterPosesWithTheirFramesAndTimestamps) {
+  const MapState map = MapWithOneMovingBody();
+  // Fewer timestamps than frames: the rest are 0.1 s apart by frame index.
+  const RunTrajectories t = BuildRunTrajectories(map, {10.0, 10.1, 10.2, 10.3});
+  ASSERT_EQ(map.clusters().size(), 1u);
+  ASSERT_EQ(t.camera.size(), 10u);
+  EXPECT_EQ(t.camera.frames, (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_DOUBLE_EQ(t.camera.timestamps[3], 10.3);
+  EXPECT_DOUBLE_EQ(t.camera.timestamps[5], 0.5);
+  for (size_t k = 0; k < t.camera.size(); ++k)
+    EXPECT_TRUE(t.camera.poses[k].isApprox(*map.world_from_cam()[t.camera.frames[k]])) << k;
+
+  ASSERT_EQ(t.clusters.size(), map.clusters().size());
+  for (const auto& [id, cluster] : map.clusters()) {
+    const Trajectory& c = t.clusters.at(id);
+    ASSERT_EQ(c.size(), cluster.world_from_cluster.size());
+    size_t k = 0;
+    for (const auto& [f, pose] : cluster.world_from_cluster) {
+      EXPECT_EQ(c.frames[k], f);
+      EXPECT_DOUBLE_EQ(c.timestamps[k], t.camera.timestamps[f]);
+      EXPECT_TRUE(c.poses[k].isApprox(pose));
+      ++k;
+    }
+  }
 }
 
 }  // namespace

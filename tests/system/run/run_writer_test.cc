@@ -5,17 +5,14 @@
 #include <filesystem>
 
 #include "tests/system/kitti_fixtures.h"
+#include "tests/support/poses.h"
 
 namespace cslam {
 namespace {
 
 namespace fs = std::filesystem;
 
-Pose Translation(double x, double y, double z) {
-  Pose p = Pose::Identity();
-  p.translation() = Eigen::Vector3d(x, y, z);
-  return p;
-}
+using testing::Translation;
 
 // A window over `range` with a camera driving forward along z, landmarks 0..5 static and
 // landmarks 6..9 on a body that slides sideways; `moving` false labels the body's landmarks
@@ -57,8 +54,8 @@ TEST(RunWriter, LeavesOutAClusterWhoseLandmarksAllWentElsewhere) {
   input.timestamps.assign(15, 0.0);
   PipelineOptions options;
   const fs::path first = tmp.path() / "first";
-  WriteRunOutputs(input, result, options, first.string(),
-                  BuildRunTrajectories(result.map, input.timestamps), nullptr);
+  WriteRunOutputs(input, result, BuildRunTrajectories(result.map, input.timestamps), options,
+                  first.string(), nullptr);
   const int id = result.map.clusters().begin()->first;
   EXPECT_TRUE(fs::exists(first / "objects" / (std::to_string(id) + ".txt")));
   EXPECT_EQ(testing::Lines(testing::ReadText(first / "objects" / "index.csv")).size(), 2u);
@@ -69,8 +66,8 @@ TEST(RunWriter, LeavesOutAClusterWhoseLandmarksAllWentElsewhere) {
   ASSERT_EQ(result.map.clusters().count(id), 1u);
   ASSERT_EQ(result.map.clusters().at(id).num_landmarks, 0);
   const fs::path second = tmp.path() / "second";
-  WriteRunOutputs(input, result, options, second.string(),
-                  BuildRunTrajectories(result.map, input.timestamps), nullptr);
+  WriteRunOutputs(input, result, BuildRunTrajectories(result.map, input.timestamps), options,
+                  second.string(), nullptr);
   EXPECT_FALSE(fs::exists(second / "objects" / (std::to_string(id) + ".txt")));
   EXPECT_EQ(testing::Lines(testing::ReadText(second / "objects" / "index.csv")).size(), 1u);
   EXPECT_TRUE(fs::exists(second / "camera_trajectory.txt"));
@@ -96,8 +93,8 @@ TEST(RunWriter, WindowsCsvHasOneRowPerWindowAndConfigYamlSaysWhereTheSettingsCam
   input.timestamps.assign(15, 0.0);
   PipelineOptions options;
   options.source = "built-in configs/kitti_raw.yaml";
-  WriteRunOutputs(input, result, options, tmp.path().string(),
-                  BuildRunTrajectories(result.map, input.timestamps), nullptr);
+  WriteRunOutputs(input, result, BuildRunTrajectories(result.map, input.timestamps), options,
+                  tmp.path().string(), nullptr);
   const auto lines = testing::Lines(testing::ReadText(tmp.path() / "windows.csv"));
   ASSERT_EQ(lines.size(), 3u);
   EXPECT_EQ(lines[0], "first_frame,last_frame,failed,adjustment_failed,backend_ms,integrate_ms,"
