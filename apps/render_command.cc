@@ -8,9 +8,9 @@
 #include "apps/command.h"
 #include "core/logging.h"
 #include "system/io/image_io.h"
+#include "system/run/resource_chart.h"
 #include "system/run/run_outputs_reader.h"
 #include "system/run/run_trajectory_plot.h"
-#include "system/runtime/resource_log.h"
 
 namespace cslam::apps {
 

@@ -10,6 +10,7 @@
 #include "system/io/image_io.h"
 #include "system/draw/render_scene.h"
 #include "system/render/point_cloud_export.h"
+#include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
 
@@ -143,7 +144,8 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
         << w.backend_ms << "," << w.integrate_ms << "," << w.clusters << "," << w.live_clusters
         << "," << w.live_landmarks << "\n";
   });
-  WriteResourceLog(result.resources, out_dir, options.output.trajectory_plot);
+  WriteResourceLog(result.resources, out_dir);
+  if (options.output.trajectory_plot) WriteResourceChart(result.resources, out_dir);
   if (metrics) WriteMetricsJson(*metrics, (out / "metrics.json").string());
 }
 

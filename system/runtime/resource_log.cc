@@ -9,12 +9,9 @@
 #include <cmath>
 #include <sstream>
 #include <iomanip>
-#include <opencv2/core.hpp>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
-#include "system/io/image_io.h"
-#include "system/draw/line_chart.h"
 
 namespace cslam {
 
@@ -51,8 +48,7 @@ std::vector<double> FramesPerSecond(const std::vector<ResourceSample>& samples) 
   return fps;
 }
 
-void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::string& out_dir,
-                      bool plot) {
+void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::string& out_dir) {
   if (samples.size() < 2) return;
   namespace fs = std::filesystem;
   const fs::path out(out_dir);
@@ -66,40 +62,6 @@ void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::str
       o << "\n";
     }
   });
-  if (plot) WritePng(RenderResourceChart(samples), (out / "render" / "resources.png").string());
-}
-
-cv::Mat RenderResourceChart(const std::vector<ResourceSample>& samples) {
-  CSLAM_CHECK(samples.size() >= 2, "a resource chart needs two samples");
-  LineChart memory, rate;
-  memory.title = "resident memory";
-  memory.x_label = rate.x_label = "frame";
-  memory.y_label = "RSS (MiB)";
-  memory.y_min = rate.y_min = 0;
-  rate.y_label = "frames/s";
-  ChartSeries m{"RSS", {}, {}, SeriesColor(0)}, r{"frames/s", {}, {}, SeriesColor(1)};
-  // At most ~100 points per chart, and the rate over the whole stride between them: the
-  // first frames race ahead of the first backend window, which per-sample rates would show as
-  // a spike that hides the rest.
-  const size_t stride = std::max<size_t>(1, samples.size() / 100);
-  for (size_t i = 0; i < samples.size(); i += stride) {
-    m.x.push_back(samples[i].frame);
-    m.y.push_back(samples[i].rss_mb);
-    if (i >= stride) {
-      const ResourceSample& a = samples[i - stride];
-      const double dt = samples[i].elapsed_s - a.elapsed_s;
-      r.x.push_back(samples[i].frame);
-      r.y.push_back(dt > 0 ? (samples[i].frame - a.frame) / dt : 0.0);
-    }
-  }
-  rate.title = "frame rate (over " + std::to_string(stride * (samples[1].frame - samples[0].frame)) +
-               "-frame spans)";
-  memory.series.push_back(m);
-  rate.series.push_back(r);
-  cv::Mat image;
-  cv::vconcat(std::vector<cv::Mat>{RenderLineChart(memory, 900, 420), RenderLineChart(rate, 900, 420)},
-              image);
-  return image;
 }
 
 std::vector<ResourceSample> ReadResourceLog(const std::string& path) {

@@ -1,7 +1,7 @@
 #pragma once
 // Resident memory and frame rate over a run, sampled every few frames, for the long-run
-// checks of docs/reliability.md ("Load"): resources.csv and render/resources.png.
-#include <opencv2/core.hpp>
+// checks of docs/reliability.md ("Load"): resources.csv (its chart, render/resources.png, is
+// drawn by system/run/resource_chart.h: the threads' library draws no pictures).
 #include <string>
 #include <vector>
 
@@ -43,14 +43,9 @@ class ResourceSampler {
 /// Frames per second between consecutive samples (one value per sample after the first).
 std::vector<double> FramesPerSecond(const std::vector<ResourceSample>& samples);
 
-/// Writes out_dir/resources.csv (frame, elapsed_s, rss_mb, fps) and, when `plot`, a chart of
-/// resident memory and frame rate against the frame number as out_dir/render/resources.png.
-/// Fewer than two samples: nothing is written.
-void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::string& out_dir,
-                      bool plot);
-
-/// The chart of render/resources.png (needs at least two samples).
-cv::Mat RenderResourceChart(const std::vector<ResourceSample>& samples);
+/// Writes out_dir/resources.csv (frame, elapsed_s, rss_mb, fps). Fewer than two samples:
+/// nothing is written.
+void WriteResourceLog(const std::vector<ResourceSample>& samples, const std::string& out_dir);
 
 /// Reads resources.csv back (for `cslam render`). Throws InputError naming the file and line.
 std::vector<ResourceSample> ReadResourceLog(const std::string& path);
