@@ -175,4 +175,14 @@ TrackletTable TrackletTable::Slice(FrameRange range) const {
   return out;
 }
 
+TrackletTable TrackletTable::CompactSlice(FrameRange range, std::vector<int>* ids) const {
+  *ids = LandmarksIn(range);
+  TrackletTable out;
+  out.by_landmark_.resize(ids->size());
+  out.spans_.resize(ids->size());
+  for (int local = 0; local < static_cast<int>(ids->size()); ++local)
+    for (const auto& o : ObservationsOf((*ids)[local], range)) out.Add(local, o.frame, o.x, o.cov);
+  return out;
+}
+
 }  // namespace cslam

@@ -80,6 +80,10 @@ class TrackletTable {
   /// A copy holding only the observations inside `range` (same landmark ids), for handing a
   /// window to another thread.
   TrackletTable Slice(FrameRange range) const;
+  /// The same observations with the landmarks renumbered 0..m−1 in ascending id order;
+  /// `ids` receives each new id's id here. A window's table then costs what the window holds,
+  /// not every landmark the run has made.
+  TrackletTable CompactSlice(FrameRange range, std::vector<int>* ids) const;
 
   /// Releases the observations of every frame before `frame` (a long online run keeps only
   /// what later windows need); spans, landmark ids and frame numbering are kept. Frames

@@ -5,7 +5,7 @@
 namespace cslam {
 
 std::optional<WindowPrior> WindowPriorFromMap(const MapState& map, const TrackletTable& table,
-                                              FrameRange range) {
+                                              FrameRange range, const std::vector<int>* ids) {
   const auto& poses = map.world_from_cam();
   if (range.size() <= 0 || range.begin >= map.num_frames() || !poses[range.begin])
     return std::nullopt;
@@ -20,10 +20,11 @@ std::optional<WindowPrior> WindowPriorFromMap(const MapState& map, const Trackle
   prior.landmark_cluster.assign(n, -1);
   prior.static_point.assign(n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
   for (int l : table.LandmarksIn(range)) {
-    const int cluster = map.ClusterOf(l);
+    const int id = ids ? (*ids)[l] : l;
+    const int cluster = map.ClusterOf(id);
     prior.landmark_cluster[l] = cluster;
     if (cluster != 0) continue;
-    if (const auto p = map.PositionInCluster(l)) prior.static_point[l] = window_from_map * *p;
+    if (const auto p = map.PositionInCluster(id)) prior.static_point[l] = window_from_map * *p;
   }
   return prior;
 }

@@ -85,7 +85,8 @@ FrameRenders::FrameRenders(const RunInput& input, const OutputOptions& options,
 FrameRenders::~FrameRenders() { Finish(); }
 
 void FrameRenders::AfterWindow(const MapState& map, const std::set<int>& reported,
-                               const TrackletTable& window_table, FrameRange range) {
+                               const TrackletTable& window_table, FrameRange range,
+                               const std::vector<int>* ids) {
   if (!enabled()) return;
   for (; next_frame_ < range.end; ++next_frame_) {
     const int f = next_frame_;
@@ -103,7 +104,7 @@ void FrameRenders::AfterWindow(const MapState& map, const std::set<int>& reporte
       const FrameRange trail{std::max(range.begin, f - kTrailFrames + 1), f + 1};
       for (const ObservationRef& ref : window_table.ObservationsAt(f)) {
         OverlayTrack t;
-        t.cluster = map.ClusterOf(ref.landmark);
+        t.cluster = map.ClusterOf(ids ? (*ids)[ref.landmark] : ref.landmark);
         if (t.cluster >= 1 && !reported.count(t.cluster)) t.cluster = -1;
         for (const StereoObservation& o : window_table.ObservationsOf(ref.landmark, trail))
           t.trail.emplace_back(o.x(0), o.x(1));

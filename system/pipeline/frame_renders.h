@@ -8,6 +8,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/tracklet_table.h"
 #include "system/map/map_state.h"
@@ -45,8 +46,10 @@ class FrameRenders {
   /// After `map` integrated a window over `range` with observations `window_table`: renders
   /// every due frame before range.end that was not rendered yet, showing the moving clusters
   /// in `reported` (system/map/object_report.h) as objects and the others' points as outliers.
+  /// `ids` (may be null): the map's landmark id of each of `window_table`'s.
   void AfterWindow(const MapState& map, const std::set<int>& reported,
-                   const TrackletTable& window_table, FrameRange range);
+                   const TrackletTable& window_table, FrameRange range,
+                   const std::vector<int>* ids = nullptr);
   /// Waits for the writer to finish everything queued; returns what was written.
   FrameRenderStats Finish();
 

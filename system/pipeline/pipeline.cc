@@ -6,7 +6,9 @@
 #include <chrono>
 #include <ctime>
 #include <exception>
+#include <limits>
 #include <thread>
+#include <vector>
 
 #include "backend/clusterslam.h"
 #include "backend/covariance_floor.h"
@@ -75,6 +77,21 @@ class TrackingStage {
   TrackletTable table_;
 };
 
+// A compact window's estimate (TrackletTable::CompactSlice) re-indexed by the map's landmark
+// ids, as MapState::Integrate reads it.
+void ToMapIds(const std::vector<int>& ids, MotionEstimate* e) {
+  const size_t n = ids.empty() ? 0 : static_cast<size_t>(ids.back()) + 1;
+  std::vector<int> cluster(n, -1);
+  std::vector<Eigen::Vector3d> in_cluster(
+      n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  for (size_t l = 0; l < ids.size(); ++l) {
+    if (l < e->landmark_cluster.size()) cluster[ids[l]] = e->landmark_cluster[l];
+    if (l < e->landmark_in_cluster.size()) in_cluster[ids[l]] = e->landmark_in_cluster[l];
+  }
+  e->landmark_cluster = std::move(cluster);
+  e->landmark_in_cluster = std::move(in_cluster);
+}
+
 // Runs backend windows and folds them into the map.
 class BackendStage {
  public:
@@ -89,8 +106,10 @@ class BackendStage {
         reservation_(reservation) {}
 
   /// `given` (may be null): the prior of a warm-started batch call (built from another map).
+  /// `ids` (may be null): the map's landmark id of each of `window_table`'s, for a compact
+  /// window (TrackletTable::CompactSlice).
   WindowStats Process(const TrackletTable& window_table, FrameRange range,
-                      const WindowPrior* given = nullptr) {
+                      const WindowPrior* given = nullptr, const std::vector<int>* ids = nullptr) {
     const CoreReservation::Scope reserved(reservation_);
     WindowStats stats;
     stats.range = range;
@@ -105,7 +124,7 @@ class BackendStage {
       std::optional<WindowPrior> own;
       if (!given && options_.mode == RunMode::kOnline && options_.method == Method::kClusterSlam &&
           options_.backend.window_prior.enabled)
-        own = WindowPriorFromMap(map_, window_table, range);
+        own = WindowPriorFromMap(map_, window_table, range, ids);
       stats.prior_ms = timer.ElapsedMs();
       result = backend_(window_table, camera_, range, options_, given ? given : own ? &*own : nullptr);
     } catch (const ConfigError&) {
@@ -140,6 +159,7 @@ class BackendStage {
                                 "their points over {} x farther than measured",
                                 range.begin, range.end - 1, dropped,
                                 options_.sanity.max_cluster_depth_ratio);
+    if (ids) ToMapIds(*ids, &result.estimate);
     timer.Reset();
     const double integrate_cpu_start = ThreadCpuMs();
     stats.integration = map_.Integrate(result.estimate);
@@ -153,7 +173,7 @@ class BackendStage {
     malloc_trim(0);
     timer.Reset();
     if (renders_.enabled())
-      renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range);
+      renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range, ids);
     stats.render_ms = timer.ElapsedMs();
     GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
                               range.end - 1, stats.clusters,
@@ -287,9 +307,23 @@ struct FrameItem {
   std::optional<StereoFrame> images;
 };
 
+// Whether the backend gets compact windows (WindowJob): every method but true-labels, which
+// reads the input's labels by landmark id.
+bool CompactWindows(const PipelineOptions& o) { return o.method != Method::kTrueLabels; }
+
+// A window's observations with its landmarks renumbered (TrackletTable::CompactSlice), or
+// with the run's ids where the backend needs them (`ids` empty: the true-labels method reads
+// the input's labels by id).
 struct WindowJob {
   FrameRange range;
   TrackletTable table;
+  std::vector<int> ids;
+  bool compact = false;
+
+  WindowJob(const TrackletTable& all, FrameRange r, bool compact_ids) : range(r), compact(compact_ids) {
+    table = compact ? all.CompactSlice(r, &ids) : all.Slice(r);
+  }
+  const std::vector<int>* Ids() const { return compact ? &ids : nullptr; }
 };
 
 class Pacer {
@@ -366,7 +400,8 @@ MapState OnlineMapOf(const RunInput& input, const TrackletTable& table, int fram
   WindowScheduler windows(online.online);
   int count = 0;
   auto run_window = [&](FrameRange w) {
-    stage.Process(table.Slice(w), w);
+    const WindowJob job(table, w, CompactWindows(online));
+    stage.Process(job.table, w, nullptr, job.Ids());
     ++count;
   };
   for (int f = 0; f < frames; ++f)
@@ -435,7 +470,8 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
   if (MayForget(input, options.online))
     tracking.EnableForgetting(options.online.window_frames + options.online.window_every);
   auto run_window = [&](FrameRange w) {
-    out.windows.push_back(backend.Process(tracking.table().Slice(w), w));
+    const WindowJob job(tracking.table(), w, CompactWindows(options));
+    out.windows.push_back(backend.Process(job.table, w, nullptr, job.Ids()));
   };
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, [&](int f) {
     for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) run_window(w);
@@ -497,7 +533,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
         out.frames_processed = f + 1;
         if (progress) progress(f + 1, n);
         for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) {
-          WindowJob job{w, tracking.table().Slice(w)};
+          WindowJob job(tracking.table(), w, CompactWindows(options));
           if (online.realtime) {
             if (!jobs.TryPush(std::move(job))) {
               ++out.windows_skipped;
@@ -514,7 +550,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
       }
       if (!stopping() && !backend_gone) {
         if (auto w = windows.Final(out.frames_processed))
-          jobs.Push(WindowJob{*w, tracking.table().Slice(*w)});
+          jobs.Push(WindowJob(tracking.table(), *w, CompactWindows(options)));
       }
     } catch (...) {
       frontend_error = std::current_exception();
@@ -528,7 +564,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
     try {
       while (auto job = jobs.Pop()) {
         if (stopping()) continue;
-        out.windows.push_back(backend.Process(job->table, job->range));
+        out.windows.push_back(backend.Process(job->table, job->range, nullptr, job->Ids()));
       }
     } catch (...) {
       backend_error = std::current_exception();

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <vector>
+
 namespace cslam {
 namespace {
 
@@ -84,6 +86,32 @@ TEST(TrackletTable, SliceKeepsIdsAndOnlyTheRange) {
   EXPECT_EQ(s.ObservationsOf(1).size(), 4u);
   EXPECT_EQ(s.ObservationsOf(2).size(), 2u);
   EXPECT_EQ(s.num_observations(), 8u);
+}
+
+TEST(TrackletTable, CompactSliceRenumbersTheWindowsLandmarksInIdOrder) {
+  const TrackletTable t = Sample();
+  std::vector<int> ids;
+  const TrackletTable s = t.CompactSlice({10, 16}, &ids);  // landmark 0 ends at frame 9
+  EXPECT_EQ(ids, (std::vector<int>{1, 2}));
+  ASSERT_EQ(s.num_landmarks(), 2);
+  for (int local = 0; local < 2; ++local) {
+    const auto want = t.ObservationsOf(ids[local], {10, 16});
+    const auto got = s.ObservationsOf(local);
+    ASSERT_EQ(got.size(), want.size());
+    for (size_t k = 0; k < got.size(); ++k) {
+      EXPECT_EQ(got[k].landmark, local);
+      EXPECT_EQ(got[k].frame, want[k].frame);
+      EXPECT_EQ(got[k].x, want[k].x);
+    }
+  }
+  // Frame refs address the renumbered observations, in ascending landmark order.
+  ASSERT_EQ(s.ObservationsAt(12).size(), 2u);
+  EXPECT_EQ(s.Get(s.ObservationsAt(12)[0]).landmark, 0);
+  EXPECT_EQ(s.Get(s.ObservationsAt(12)[1]).x, Eigen::Vector3d(12, 2, 0));
+  // An empty window holds nothing.
+  const TrackletTable none = t.CompactSlice({30, 40}, &ids);
+  EXPECT_TRUE(ids.empty());
+  EXPECT_EQ(none.num_landmarks(), 0);
 }
 
 TEST(TrackletTable, ForgetBeforeKeepsLaterFramesIntactAndSpansWhole) {

@@ -361,6 +361,29 @@ BackendFunction FailingAt(std::vector<int> throw_at, std::vector<int> nan_at) {
   };
 }
 
+// A window's cost must follow what it holds, not how many landmarks the run has made.
+TEST(Pipeline, EachOnlineWindowHandsTheBackendOnlyItsOwnLandmarks) {
+  const RunInput in = SmallSyntheticInput();
+  for (bool sequential : {true, false}) {
+    std::mutex mutex;
+    std::vector<std::pair<int, int>> sizes;  // (landmarks in the table, landmarks seen in range)
+    const BackendFunction recording = [&](const TrackletTable& t, const StereoCamera& c,
+                                          FrameRange r, const PipelineOptions& o,
+                                          const WindowPrior* prior) {
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        sizes.emplace_back(t.num_landmarks(), static_cast<int>(t.LandmarksIn(r).size()));
+      }
+      return RunBackend(t, c, r, o, prior);
+    };
+    const PipelineResult out = RunPipeline(in, OnlineOptionsFor(sequential), nullptr, {}, recording);
+    ASSERT_FALSE(out.error);
+    ASSERT_EQ(sizes.size(), 3u);
+    for (const auto& [held, seen] : sizes) EXPECT_EQ(held, seen);
+    EXPECT_LT(sizes.back().first, out.table.num_landmarks());  // frames 10..39 of 0..39
+  }
+}
+
 TEST(Pipeline, AFailedWindowIsDiscardedAndTheRunGoesOn) {
   const RunInput in = SmallSyntheticInput();
   for (bool sequential : {true, false}) {
