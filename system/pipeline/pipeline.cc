@@ -7,6 +7,7 @@
 #include <ctime>
 #include <exception>
 #include <limits>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -311,19 +312,23 @@ struct FrameItem {
 // reads the input's labels by landmark id.
 bool CompactWindows(const PipelineOptions& o) { return o.method != Method::kTrueLabels; }
 
-// A window's observations with its landmarks renumbered (TrackletTable::CompactSlice), or
-// with the run's ids where the backend needs them (`ids` empty: the true-labels method reads
-// the input's labels by id).
+// A window's observations with its landmarks renumbered (TrackletTable::CompactSlice; `ids`
+// maps them back), or with the run's ids where the backend needs them (no `ids`: the
+// true-labels method reads the input's labels by id).
 struct WindowJob {
   FrameRange range;
   TrackletTable table;
-  std::vector<int> ids;
-  bool compact = false;
+  std::optional<std::vector<int>> ids;
 
-  WindowJob(const TrackletTable& all, FrameRange r, bool compact_ids) : range(r), compact(compact_ids) {
-    table = compact ? all.CompactSlice(r, &ids) : all.Slice(r);
+  WindowJob(const TrackletTable& all, FrameRange r, bool compact) : range(r) {
+    if (compact) {
+      ids.emplace();
+      table = all.CompactSlice(r, &*ids);
+    } else {
+      table = all.Slice(r);
+    }
   }
-  const std::vector<int>* Ids() const { return compact ? &ids : nullptr; }
+  const std::vector<int>* Ids() const { return ids ? &*ids : nullptr; }
 };
 
 class Pacer {
