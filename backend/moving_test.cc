@@ -73,7 +73,7 @@ void MapTrack(const PointTrack& track, const ModelPose& model,
   m->b.setZero();
   m->bh.setZero();
   for (const PointSample& s : track.samples) {
-    if (!covered(s.frame)) continue;
+    if (s.clipped || !covered(s.frame)) continue;
     const Pose* p = model(s.frame);
     if (!p) continue;
     const Eigen::Matrix3d r = p->linear();

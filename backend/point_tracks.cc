@@ -35,6 +35,7 @@ std::optional<PointSample> BackProjectObservation(const StereoObservation& o,
   s.cov = jac * o.cov * jac.transpose();
   s.disparity_px = o.x(0) - o.x(2);
   s.metres_per_px = s.point.z() / camera.fx;
+  s.clipped = o.clipped;
   return s;
 }
 

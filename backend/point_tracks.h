@@ -25,6 +25,7 @@ struct PointSample {
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
   double disparity_px = 0.0;  ///< uL − uR of the observation (0: unknown)
   double metres_per_px = 0.0; ///< depth / focal length: lateral metres per pixel (0: unknown)
+  bool clipped = false;       ///< StereoObservation::clipped: no evidence of motion
 };
 
 /// The samples of one landmark, ascending frame (a subset of its table observations).

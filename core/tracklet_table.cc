@@ -33,7 +33,7 @@ int TrackletTable::NewLandmark() {
 }
 
 bool TrackletTable::Add(int landmark, int frame, const Eigen::Vector3d& x,
-                        const Eigen::Matrix3d& cov) {
+                        const Eigen::Matrix3d& cov, bool clipped) {
   CSLAM_CHECK(landmark >= 0 && frame >= 0, "negative landmark or frame id");
   CSLAM_CHECK(frame >= first_held_frame_, "observation added to a forgotten frame");
   if (landmark >= num_landmarks()) {
@@ -46,7 +46,7 @@ bool TrackletTable::Add(int landmark, int frame, const Eigen::Vector3d& x,
                              [](const StereoObservation& o, int f) { return o.frame < f; });
   if (it != obs.end() && it->frame == frame) return false;
   const bool append = it == obs.end();
-  obs.insert(it, StereoObservation{landmark, frame, x, cov});
+  obs.insert(it, StereoObservation{landmark, frame, x, cov, clipped});
   if (!append) {
     // Indices of later observations of this landmark shifted: fix their frame refs.
     for (size_t i = 0; i < obs.size(); ++i) {
@@ -170,7 +170,7 @@ TrackletTable TrackletTable::Slice(FrameRange range) const {
   out.by_landmark_.resize(by_landmark_.size());
   out.spans_.resize(spans_.size());
   for (int l : LandmarksIn(range)) {
-    for (const auto& o : ObservationsOf(l, range)) out.Add(l, o.frame, o.x, o.cov);
+    for (const auto& o : ObservationsOf(l, range)) out.Add(l, o.frame, o.x, o.cov, o.clipped);
   }
   return out;
 }
@@ -181,7 +181,7 @@ TrackletTable TrackletTable::CompactSlice(FrameRange range, std::vector<int>* id
   out.by_landmark_.resize(ids->size());
   out.spans_.resize(ids->size());
   for (int local = 0; local < static_cast<int>(ids->size()); ++local)
-    for (const auto& o : ObservationsOf((*ids)[local], range)) out.Add(local, o.frame, o.x, o.cov);
+    for (const auto& o : ObservationsOf((*ids)[local], range)) out.Add(local, o.frame, o.x, o.cov, o.clipped);
   return out;
 }
 

@@ -13,6 +13,10 @@ struct StereoObservation {
   int frame = -1;
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
   Eigen::Matrix3d cov = Eigen::Matrix3d::Identity();
+  /// The keypoint's patch (left or right) holds clipped, saturated pixels: its position error
+  /// follows the exposure of each image, not the covariance model, so it is no evidence of
+  /// motion (backend/moving_test.h).
+  bool clipped = false;
 };
 
 /// Half-open frame interval [begin, end).
@@ -51,7 +55,8 @@ class TrackletTable {
  public:
   /// Adds an observation; creates landmark ids up to `landmark` as needed. Returns false (and
   /// changes nothing) when the landmark already has an observation in that frame.
-  bool Add(int landmark, int frame, const Eigen::Vector3d& x, const Eigen::Matrix3d& cov);
+  bool Add(int landmark, int frame, const Eigen::Vector3d& x, const Eigen::Matrix3d& cov,
+           bool clipped = false);
   /// A fresh landmark id (= num_landmarks() before the call).
   int NewLandmark();
 

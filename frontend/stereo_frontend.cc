@@ -1,5 +1,7 @@
 #include "frontend/stereo_frontend.h"
 
+#include <algorithm>
+#include <cmath>
 #include <ctime>
 #include <string>
 #include <vector>
@@ -18,6 +20,8 @@ void FrontendOptions::Check() const {
   CheckSection("stereo", [&] { stereo.Check(); });
   CheckSection("covariance", [&] { covariance.Check(); });
   CheckOption(reinit_below_tracks >= 0, "reinit_below_tracks", "must be >= 0", reinit_below_tracks);
+  CheckOption(clipped_grey >= 1, "clipped_grey", "must be a grey level >= 1 (above 255: never)",
+              clipped_grey);
 }
 
 void FrontendOptions::Load(OptionsReader& reader) {
@@ -25,6 +29,7 @@ void FrontendOptions::Load(OptionsReader& reader) {
   reader.Read("predict_flow", &predict_flow);
   reader.Read("use_disparity_prior", &use_disparity_prior);
   reader.Read("reinit_below_tracks", &reinit_below_tracks);
+  reader.Read("clipped_grey", &clipped_grey);
   reader.ReadSection("detector", &detector);
   reader.ReadSection("tracker", &tracker);
   reader.ReadSection("stereo", &stereo);
@@ -32,6 +37,20 @@ void FrontendOptions::Load(OptionsReader& reader) {
 }
 
 namespace {
+// Whether the (2 half + 1)² window around `p` holds a pixel at or above `level`.
+bool TouchesLevel(const cv::Mat& grey, cv::Point2f p, int half, int level) {
+  if (level > 255) return false;
+  const int cx = static_cast<int>(std::lround(p.x)), cy = static_cast<int>(std::lround(p.y));
+  const int x0 = std::max(0, cx - half), x1 = std::min(grey.cols - 1, cx + half);
+  const int y0 = std::max(0, cy - half), y1 = std::min(grey.rows - 1, cy + half);
+  for (int y = y0; y <= y1; ++y) {
+    const uchar* row = grey.ptr<uchar>(y);
+    for (int x = x0; x <= x1; ++x)
+      if (row[x] >= level) return true;
+  }
+  return false;
+}
+
 /// Wall-clock and thread-CPU stopwatch for the per-stage times of FrameSummary.
 class StageClock {
  public:
@@ -69,6 +88,7 @@ struct Track {
   int pending_frame = -1;
   Eigen::Vector3d pending_x;
   Eigen::Matrix3d pending_cov;
+  bool pending_clipped = false;
 };
 }  // namespace
 
@@ -199,25 +219,31 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
                                             is_new ? 0.0 : static_cast<double>(t.fb_error_px),
                                             matches[i].ncc, matches[i].curvature};
     const Eigen::Matrix3d cov = KeypointCovariance(left_grey, cov_input, options_.covariance);
+    const int half = options_.covariance.window_px / 2;
+    const bool clipped =
+        TouchesLevel(left_grey, t.pt, half, options_.clipped_grey) ||
+        TouchesLevel(right_grey, cv::Point2f(matches[i].u_right, t.pt.y), half, options_.clipped_grey);
     if (is_new) {
       ++summary.created;
       if (options_.confirm_new_tracks) {
         t.pending_frame = frame;
         t.pending_x = x;
         t.pending_cov = cov;
+        t.pending_clipped = clipped;
       } else {
         t.landmark = table->NewLandmark();
         ++summary.new_landmarks;
-        summary.observations += table->Add(t.landmark, frame, x, cov);
+        summary.observations += table->Add(t.landmark, frame, x, cov, clipped);
       }
     } else {
       ++summary.tracked;
       if (t.landmark < 0) {
         t.landmark = table->NewLandmark();
         ++summary.new_landmarks;
-        summary.observations += table->Add(t.landmark, t.pending_frame, t.pending_x, t.pending_cov);
+        summary.observations += table->Add(t.landmark, t.pending_frame, t.pending_x, t.pending_cov,
+                                           t.pending_clipped);
       }
-      summary.observations += table->Add(t.landmark, frame, x, cov);
+      summary.observations += table->Add(t.landmark, frame, x, cov, clipped);
     }
     next.push_back(t);
   }

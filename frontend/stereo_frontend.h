@@ -37,6 +37,12 @@ struct FrontendOptions {
   /// into a frame (a jump, a black frame), the survivors are likely false matches: they are
   /// dropped and tracking starts over from new detections. 0 = only when none survive.
   int reinit_below_tracks = 10;
+  /// A keypoint whose structure-tensor window (covariance.window_px) holds a pixel at or above
+  /// this grey level, in the left image or at its match in the right one, is marked clipped
+  /// (StereoObservation::clipped): where a bright surface saturates, the corner's position
+  /// follows each camera's exposure, so the moving test does not take it as evidence of
+  /// motion. Above 255 = never.
+  int clipped_grey = 250;
 
   void Check() const;
   /// Reads the fields and the sections detector, tracker, stereo, covariance (each finished).

@@ -6,6 +6,7 @@
 
 #include "core/errors.h"
 #include "core/logging.h"
+#include "system/map/co_location.h"
 #include "system/map/motion_agreement.h"
 
 namespace cslam {
@@ -23,6 +24,9 @@ void MapStateOptions::Check() const {
               "must be at least 2 (one frame cannot show a motion)", motion_min_frames);
   CheckOption(motion_tolerance > 0, "motion_tolerance",
               "must be positive (RMS misplacement / mean range to the camera)", motion_tolerance);
+  CheckOption(std::isfinite(co_location_ratio) && co_location_ratio >= 0, "co_location_ratio",
+              "must be >= 0 (centroid distance / the smaller RMS radius; 0: off)",
+              co_location_ratio);
   CheckOption(min_new_cluster_landmarks >= 1, "min_new_cluster_landmarks",
               "must be at least 1", min_new_cluster_landmarks);
   CheckOption(report_min_landmarks >= 1, "report_min_landmarks", "must be at least 1",
@@ -43,6 +47,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("motion_association", &motion_association);
   r.Read("motion_min_frames", &motion_min_frames);
   r.Read("motion_tolerance", &motion_tolerance);
+  r.Read("co_location_ratio", &co_location_ratio);
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
   r.Read("stitch_by_motion", &stitch_by_motion);
@@ -205,6 +210,12 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     IntegrateCluster(window, label, ids, *motion, a, map_from_window, &info);
   }
   if (options_.merge_agreeing_clusters) MergeAgreeingClusters(&info);
+  if (auto log = GetLogger("system"); log->should_log(spdlog::level::debug)) {
+    std::string pairs;
+    for (const auto& [label, id] : info.cluster_map) pairs += fmt::format(" {}->{}", label, id);
+    log->debug("map: window {}..{} clusters (window label->map id):{}", window.range.begin,
+               window.range.end - 1, pairs);
+  }
   return info;
 }
 
@@ -475,6 +486,18 @@ void MapState::MergeInto(int older, int younger, const Pose& older_from_younger)
   clusters_.erase(younger);
 }
 
+bool MapState::CoLocated(const MapCluster& older, const std::vector<int>& older_ids,
+                         const MapCluster& younger,
+                         const std::vector<Eigen::Vector3d>& younger_points) const {
+  if (!(options_.co_location_ratio > 0)) return false;
+  std::vector<Eigen::Vector3d> older_points;
+  older_points.reserve(older_ids.size());
+  for (int l : older_ids) older_points.push_back(landmarks_.at(l).p_in_cluster);
+  const CoLocation loc = CompareLocations(older.world_from_cluster, older_points,
+                                          younger.world_from_cluster, younger_points);
+  return loc.frames >= options_.motion_min_frames && loc.median_ratio <= options_.co_location_ratio;
+}
+
 void MapState::MergeAgreeingClusters(WindowIntegration* info) {
   // Oldest first, so a chain of fragments folds into the oldest id; repeat until nothing
   // merges, since a merge extends the older trajectory over frames it may now share.
@@ -501,10 +524,13 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
                                       : o->second.world_from_cluster,
                            y->second.world_from_cluster, points, world_from_cam_,
                            options_.motion_min_frames);
-        if (agreement.frames < options_.motion_min_frames || agreement.relative_rms() > options_.motion_tolerance)
+        if (agreement.frames < options_.motion_min_frames) continue;
+        const bool rigid = agreement.relative_rms() <= options_.motion_tolerance;
+        if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, y->second, points)))
           continue;
-        GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m)",
-                                   younger, older, agreement.frames, agreement.rms_m);
+        GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m, {})",
+                                   younger, older, agreement.frames, agreement.rms_m,
+                                   rigid ? "one rigid motion" : "in one place");
         MergeInto(older, younger, agreement.a_from_b);
         info->merged.emplace_back(older, younger);
         merged = true;

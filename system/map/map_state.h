@@ -47,6 +47,11 @@ struct MapStateOptions {
   /// motion_min_frames shared frames (the younger id goes, its landmarks join the older one),
   /// and fold clusters that hold still into the static world (id 0).
   bool merge_agreeing_clusters = true;
+  /// ... and merge two moving clusters that occupy one place: over at least motion_min_frames
+  /// shared frames, the median distance between their centroids is at most this many times
+  /// the smaller one's RMS radius (system/map/co_location.h). Rigid bodies cannot overlap, so
+  /// these are pieces of one body, rigid or not (a cyclist's legs and frame). 0 = off.
+  double co_location_ratio = 1.0;
   /// How an associated window cluster's frame is aligned to the map cluster's: true, by the
   /// best constant offset between the two trajectories over their shared frames (when they
   /// share motion_min_frames), so the stitched trajectory continues the map's without a jump;
@@ -161,8 +166,12 @@ class MapState {
   void Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster);
   /// Landmarks of every cluster (moving and static), in their cluster's frame.
   std::map<int, std::vector<int>> MembersByCluster() const;
-  /// Merges agreeing map clusters (merge_agreeing_clusters), recording them in `info`.
+  /// Merges map clusters whose motions agree or that occupy one place
+  /// (merge_agreeing_clusters, co_location_ratio), recording them in `info`.
   void MergeAgreeingClusters(WindowIntegration* info);
+  /// Whether the two clusters' points occupied the same space (system/map/co_location.h).
+  bool CoLocated(const MapCluster& older, const std::vector<int>& older_ids,
+                 const MapCluster& younger, const std::vector<Eigen::Vector3d>& younger_points) const;
   /// Moves every landmark of `younger` into `older` (older_from_younger maps the frames) and
   /// extends the older trajectory with the younger's poses at frames it lacks.
   void MergeInto(int older, int younger, const Pose& older_from_younger);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "system/map/shared_frames.h"
+
 namespace cslam {
 
 MotionAgreement CompareMotions(const std::map<int, Pose>& world_from_a,
@@ -14,19 +16,10 @@ MotionAgreement CompareMotions(const std::map<int, Pose>& world_from_a,
   // The shared frames, by walking both (frame-ordered) maps once.
   std::vector<std::pair<const Pose*, const Pose*>> shared;  // (a, b) per shared frame
   std::vector<int> shared_frames;
-  for (auto a = world_from_a.begin(), b = world_from_b.begin();
-       a != world_from_a.end() && b != world_from_b.end();) {
-    if (a->first < b->first) {
-      ++a;
-    } else if (b->first < a->first) {
-      ++b;
-    } else {
-      shared.emplace_back(&a->second, &b->second);
-      shared_frames.push_back(a->first);
-      ++a;
-      ++b;
-    }
-  }
+  ForEachSharedFrame(world_from_a, world_from_b, [&](int f, const Pose& a, const Pose& b) {
+    shared.emplace_back(&a, &b);
+    shared_frames.push_back(f);
+  });
   result.frames = static_cast<int>(shared.size());
   if (result.frames == 0 || result.frames < min_frames) return result;
   std::vector<Eigen::Vector3d> padded;

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/logging.h"
 #include "system/eval/box_labels.h"
 #include "system/eval/clustering_metrics.h"
 #include "system/eval/noise_check.h"
@@ -82,6 +83,10 @@ void FillObjectPrecision(const std::vector<int>& truth, const std::vector<int>& 
       if (t >= 1) best = std::max(best, n);
     }
     on_movers += 2 * best > total;
+    std::string labels;
+    for (const auto& [t, n] : counts) labels += fmt::format(" {}:{}", t, n);
+    GetLogger("system")->debug("reported object {}: landmarks by label (0 static):{}", cluster,
+                               labels);
   }
   m->objects.reported_on_movers = on_movers;
   if (m->objects.reported && *m->objects.reported > 0)

@@ -151,6 +151,30 @@ TEST(MovingTest, OneJumpingTrackDoesNotMakeAStaticPieceMove) {
   EXPECT_FALSE(r.moving);
 }
 
+// Corners along the edge of a saturated surface slide alike as the exposure changes, and a
+// cluster of them has an own motion that follows the slide: that is motion to the test
+// unless the frontend marks the samples clipped.
+TEST(MovingTest, SamplesOnClippedPixelsAreNoEvidenceOfMotion) {
+  Cluster c = MakeCluster(Box({2, 0, 10}, 8), {0.05, 0, 0}, 20, 0.5, 9);
+  const Models m = TrueModels(c);
+  EXPECT_TRUE(TestMoving(c.Pointers(), m.Static(), m.Own(), {}).moving);
+  for (PointTrack& t : c.tracks)
+    for (PointSample& s : t.samples) s.clipped = true;
+  const MovingTestResult r = TestMoving(c.Pointers(), m.Static(), m.Own(), {});
+  EXPECT_EQ(r.landmarks, 0);
+  EXPECT_FALSE(r.moving);
+}
+
+TEST(MovingTest, ACarWithSomeClippedCornersIsStillMoving) {
+  Cluster c = MakeCluster(Box({2, 0, 10}, 8), {0, 0, 1.15}, 20, 0.5, 1);
+  for (size_t i = 0; i < c.tracks.size(); i += 2)
+    for (PointSample& s : c.tracks[i].samples) s.clipped = true;
+  const Models m = TrueModels(c);
+  const MovingTestResult r = TestMoving(c.Pointers(), m.Static(), m.Own(), {});
+  EXPECT_EQ(r.landmarks, 4);
+  EXPECT_TRUE(r.moving);
+}
+
 TEST(MovingTest, FramesWithFewLandmarksCountFewerUnknowns) {
   Cluster c = MakeCluster(Box({2, 0, 10}, 3), Eigen::Vector3d::Zero(), 10, 0.5, 7);
   c.tracks[2].samples.resize(5);  // frames 0..2 hold 3 landmarks, 3..4 two, 5..9 one

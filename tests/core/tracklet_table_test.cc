@@ -114,6 +114,20 @@ TEST(TrackletTable, CompactSliceRenumbersTheWindowsLandmarksInIdOrder) {
   EXPECT_EQ(none.num_landmarks(), 0);
 }
 
+TEST(TrackletTable, SlicesKeepTheClippedMarkOfEachObservation) {
+  TrackletTable t;
+  for (int f = 0; f < 6; ++f) t.Add(3, f, Eigen::Vector3d(f, 0, 0), kI, /*clipped=*/f % 2 == 1);
+  EXPECT_FALSE(t.ObservationsOf(3)[0].clipped);
+  EXPECT_TRUE(t.ObservationsOf(3)[1].clipped);
+  std::vector<int> ids;
+  const TrackletTable compact = t.CompactSlice({2, 6}, &ids);
+  const TrackletTable slice = t.Slice({2, 6});
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(compact.ObservationsOf(0)[k].clipped, k % 2 == 1) << k;
+    EXPECT_EQ(slice.ObservationsOf(3)[k].clipped, k % 2 == 1) << k;
+  }
+}
+
 TEST(TrackletTable, ForgetBeforeKeepsLaterFramesIntactAndSpansWhole) {
   TrackletTable t = Sample();
   const TrackletTable before = t;

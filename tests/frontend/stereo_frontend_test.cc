@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -154,6 +155,44 @@ TEST(StereoFrontend, TableBookkeepingAcrossFramesAndReset) {
   EXPECT_EQ(after.tracked, 0);
   EXPECT_EQ(after.observations, 0);
   EXPECT_GT(after.created, 0);
+}
+
+// Distance (px, max norm) from p to the rectangle; 0 inside.
+double DistanceTo(const cv::Rect& r, double u, double v) {
+  const double du = std::max({r.x - u, 0.0, u - (r.x + r.width - 1)});
+  const double dv = std::max({r.y - v, 0.0, v - (r.y + r.height - 1)});
+  return std::max(du, dv);
+}
+
+TEST(StereoFrontend, MarksKeypointsNextToSaturatedPixelsClipped) {
+  const Scene scene;
+  const cv::Rect white(60, 50, 80, 60);  // a sunlit patch, white in both images
+  FrontendOptions options = SmallImageOptions();
+  options.clipped_grey = 255;
+  const int half = options.covariance.window_px / 2;
+  TrackletTable table;
+  StereoFrontend frontend(SyntheticCamera(), options);
+  for (int t = 0; t < 2; ++t) {
+    Scene::Pair f = scene.Render({2.0f * t, 0}, {-3.0f * t, 0});
+    f.left(white).setTo(255);
+    f.right(white).setTo(255);
+    frontend.Process(t, f.left, f.right, &table);
+  }
+  int clipped = 0, clear = 0;
+  for (int id = 0; id < table.num_landmarks(); ++id)
+    for (const StereoObservation& o : table.ObservationsOf(id)) {
+      const double left = DistanceTo(white, o.x(0), o.x(1));
+      const double right = DistanceTo(white, o.x(2), o.x(1));
+      if (std::min(left, right) <= half - 1) {
+        EXPECT_TRUE(o.clipped) << "landmark " << id << " at " << o.x.transpose();
+        ++clipped;
+      } else if (std::min(left, right) > half + 1) {
+        EXPECT_FALSE(o.clipped) << "landmark " << id << " at " << o.x.transpose();
+        ++clear;
+      }
+    }
+  EXPECT_GT(clipped, 10);
+  EXPECT_GT(clear, 300);
 }
 
 TEST(StereoFrontend, ReinitialisesAfterBlackFramesWithoutBridgingThem) {

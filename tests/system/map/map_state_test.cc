@@ -294,6 +294,54 @@ TEST(MapState, AClusterThatHoldsStillFoldsIntoTheStaticWorld) {
   }
 }
 
+// Object 1 as a body that is not rigid: its odd landmarks (the legs of a cyclist) swing
+// `swing_m` up and down against the rest. A window that clusters the two parts apart reports
+// them as clusters 1 and 3.
+MotionEstimate SwingingWindow(const World& w, FrameRange range, double swing_m) {
+  MotionEstimate e = PerfectWindow(w, range, {{1, 1}, {2, 2}});
+  const ClusterMotion body = *e.FindCluster(1);
+  ClusterMotion legs;
+  legs.cluster = 3;
+  for (size_t k = 0; k < body.frames.size(); ++k) {
+    const int f = body.frames[k];
+    Pose swing = Pose::Identity();
+    swing.translation().y() = swing_m * std::sin(0.8 * f);
+    legs.frames.push_back(f);
+    legs.world_from_cluster.push_back(body.world_from_cluster[k] * swing);
+    legs.cam_from_cluster.push_back(body.cam_from_cluster[k] * swing);
+  }
+  e.clusters.push_back(legs);
+  for (size_t l = 0; l < w.label.size(); ++l)
+    if (w.label[l] == 1 && l % 2) e.landmark_cluster[l] = 3;
+  return e;
+}
+
+TEST(MapState, TwoPartsOfOneBodyThatIsNotRigidAreMergedBecauseTheyShareOnePlace) {
+  const World w = MakeWorld(40);
+  // 0.5 m of swing is more than the rigid motion test tolerates at these ranges.
+  MapStateOptions rigid_only;
+  rigid_only.co_location_ratio = 0;
+  MapState apart(rigid_only);
+  apart.Integrate(SwingingWindow(w, {0, 30}, 0.5));
+  EXPECT_EQ(apart.clusters().size(), 3u);
+  EXPECT_NE(apart.ClusterOf(30), apart.ClusterOf(31));
+
+  MapState map;
+  const WindowIntegration info = map.Integrate(SwingingWindow(w, {0, 30}, 0.5));
+  ASSERT_EQ(info.merged.size(), 1u);
+  EXPECT_EQ(info.merged[0], (std::pair<int, int>{1, 3}));
+  ASSERT_EQ(map.clusters().size(), 2u);
+  for (int l = 30; l < 45; ++l) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  EXPECT_EQ(map.ClusterOf(45), 2);  // object 2, elsewhere, stays apart
+  ExpectFollows(w, map, 1, 1);
+}
+
+TEST(MapState, OptionsRejectANegativeCoLocationRatio) {
+  MapStateOptions o;
+  o.co_location_ratio = -1;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
 // Windows whose trajectories are exact but whose object landmarks carry independent noise
 // (stereo depth noise at range): stitching by the trajectories continues each object without
 // a jump; aligning by the noisy shared landmarks makes it jump at every window.
