@@ -22,6 +22,7 @@
 #include "system/map/object_report.h"
 #include "system/map/window_prior.h"
 #include "system/pipeline/estimate_sanity.h"
+#include "system/pipeline/window_scheduler.h"
 #include "system/runtime/bounded_queue.h"
 #include "system/runtime/core_reservation.h"
 #include "system/runtime/thread_priority.h"
@@ -199,95 +200,6 @@ class BackendStage {
 
 // Frames between two samples of resident memory and time (resources.csv).
 constexpr int kResourceSampleEvery = 10;
-
-// A stretch after a tracking break needs this many frames to be worth a backend call.
-constexpr int kMinClippedFrames = 3;
-
-// Landmarks observed in both `frame` - 1 and `frame` (complete once `frame` is tracked).
-int SharedWithPrevious(const TrackletTable& table, int frame) {
-  if (frame <= 0 || frame >= table.num_frames()) return 0;
-  int shared = 0;
-  for (const ObservationRef& ref : table.ObservationsAt(frame))
-    if (ref.index > 0 && table.Get({ref.landmark, ref.index - 1}).frame == frame - 1) ++shared;
-  return shared;
-}
-
-// Decides, frame by frame, which backend windows are due: the last window_frames frames every
-// window_every frames, and a last one at the end so every frame gets a pose. No window spans a
-// tracking break (consecutive frames sharing fewer than min_shared_landmarks landmarks): the
-// two sides are unconnected and no solver can place one relative to the other. So a break
-// closes the stretch before it with a window of its own, and windows after it start at it.
-class WindowScheduler {
- public:
-  explicit WindowScheduler(const OnlineOptions& o) : o_(o) {}
-
-  // Windows to run once frame `f` is tracked into `table`, in order.
-  std::vector<FrameRange> AfterFrame(const TrackletTable& table, int f) {
-    std::vector<FrameRange> due;
-    if (f > 0 && SharedWithPrevious(table, f) < o_.min_shared_landmarks) {
-      if (last_end_ < f && !broken_before_) {
-        // The frames since the last window would otherwise never be solved.
-        const FrameRange closing{std::max(segment_begin_, f - o_.window_frames), f};
-        if (closing.size() >= kMinClippedFrames) due.push_back(closing);
-        last_end_ = f;
-      }
-      if (!broken_before_)
-        GetLogger("system")->info("tracking break at frame {}: no window spans it", f);
-      broken_before_ = true;
-      segment_begin_ = f;
-    } else {
-      broken_before_ = false;
-    }
-    const int done = f + 1;
-    if (done >= o_.window_frames && (done - o_.window_frames) % o_.window_every == 0) {
-      if (auto w = Clip({done - o_.window_frames, done})) due.push_back(*w);
-      last_end_ = done;
-    }
-    return due;
-  }
-
-  // The window after the last frame, when frames since the last window have no pose yet.
-  std::optional<FrameRange> Final(int frames_done) {
-    if (frames_done <= 0 || last_end_ >= frames_done) return std::nullopt;
-    last_end_ = frames_done;
-    return Clip({std::max(0, frames_done - o_.window_frames), frames_done});
-  }
-
-  // A window that was not run after all (real-time mode, backend behind).
-  void Skipped(FrameRange w) { last_end_ = std::min(last_end_, w.begin); }
-
- private:
-  std::optional<FrameRange> Clip(FrameRange r) const {
-    if (segment_begin_ <= r.begin) return r;
-    if (r.end - segment_begin_ < kMinClippedFrames) return std::nullopt;
-    return FrameRange{segment_begin_, r.end};
-  }
-
-  const OnlineOptions& o_;
-  int last_end_ = 0;        // end of the last window scheduled
-  int segment_begin_ = 0;   // first frame after the last tracking break
-  bool broken_before_ = false;  // the previous frame was a break too (e.g. a run of black frames)
-};
-
-// [0, frames) split at every tracking break; stretches too short to solve are left out
-// unless there is only one.
-std::vector<FrameRange> SegmentsBetweenBreaks(const TrackletTable& table, int frames,
-                                              const OnlineOptions& o) {
-  std::vector<FrameRange> all;
-  int begin = 0;
-  for (int f = 1; f <= frames; ++f)
-    if (f == frames || SharedWithPrevious(table, f) < o.min_shared_landmarks) {
-      all.push_back({begin, f});
-      begin = f;
-    }
-  if (all.size() <= 1) return all;
-  std::vector<FrameRange> kept;
-  for (const FrameRange& r : all)
-    if (r.size() >= kMinClippedFrames) kept.push_back(r);
-  GetLogger("system")->info("{} tracking break(s): {} stretch(es) long enough to solve",
-                            all.size() - 1, kept.size());
-  return kept;
-}
 
 bool StopRequested(const std::atomic<bool>* stop) { return stop && stop->load(); }
 
