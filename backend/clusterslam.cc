@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -126,10 +127,10 @@ std::vector<int> ClusterLandmarks(const TrackletTable& table, const PointTracks&
                                   const std::vector<int>* previous, ConsensusSummary* summary) {
   std::vector<ChunkLabels> chunk_labels;
   for (const FrameRange& chunk : ChunksOf(range, options.consensus)) {
-    const SparseDistances d = ComputeMotionDistances(table, tracks, chunk, options.distance);
+    SparseDistances d = ComputeMotionDistances(table, tracks, chunk, options.distance);
     ChunkLabels cl;
     cl.landmarks = d.landmarks;
-    cl.labels = CompleteLinkageHac(d, options.hac);
+    cl.labels = CompleteLinkageHac(std::move(d), options.hac);
     chunk_labels.push_back(std::move(cl));
   }
   const std::vector<int> consensus =

@@ -324,6 +324,9 @@ SparseDistances ComputeMotionDistances(const TrackletTable& table, const PointTr
           {std::min(i, j), std::max(i, j), first + options.alpha * double(prior) + extent});
     }
   }
+  // The list grew by doubling; up to half of it is slack that the clustering would carry
+  // through its own peak (a cold window holds ~1 M entries).
+  out.entries.shrink_to_fit();
   return out;
 }
 

@@ -27,6 +27,8 @@ void MapStateOptions::Check() const {
   CheckOption(std::isfinite(co_location_ratio) && co_location_ratio >= 0, "co_location_ratio",
               "must be >= 0 (centroid distance / the smaller RMS radius; 0: off)",
               co_location_ratio);
+  CheckOption(merge_horizon_frames >= 0, "merge_horizon_frames", "must be >= 0 (0: all frames)",
+              merge_horizon_frames);
   CheckOption(min_new_cluster_landmarks >= 1, "min_new_cluster_landmarks",
               "must be at least 1", min_new_cluster_landmarks);
   CheckOption(report_min_landmarks >= 1, "report_min_landmarks", "must be at least 1",
@@ -48,6 +50,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("motion_min_frames", &motion_min_frames);
   r.Read("motion_tolerance", &motion_tolerance);
   r.Read("co_location_ratio", &co_location_ratio);
+  r.Read("merge_horizon_frames", &merge_horizon_frames);
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
   r.Read("stitch_by_motion", &stitch_by_motion);
@@ -515,18 +518,24 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
       if (y == clusters_.end() || y->second.world_from_cluster.empty()) continue;
       std::vector<Eigen::Vector3d> points;
       for (int l : ids) points.push_back(landmarks_.at(l).p_in_cluster);
+      MapCluster recent;  // the younger cluster over the merge horizon
+      const auto& whole = y->second.world_from_cluster;
+      const int horizon = options_.merge_horizon_frames;
+      recent.world_from_cluster.insert(
+          horizon > 0 ? whole.lower_bound(whole.rbegin()->first - horizon + 1) : whole.begin(),
+          whole.end());
       for (const auto& [older, older_ids] : members) {
         if (older >= younger) break;
         const auto o = clusters_.find(older);
         if (older >= 1 && o == clusters_.end()) continue;
         const MotionAgreement agreement =
-            CompareMotions(older == 0 ? StaticTrajectory(y->second.world_from_cluster)
+            CompareMotions(older == 0 ? StaticTrajectory(recent.world_from_cluster)
                                       : o->second.world_from_cluster,
-                           y->second.world_from_cluster, points, world_from_cam_,
+                           recent.world_from_cluster, points, world_from_cam_,
                            options_.motion_min_frames);
         if (agreement.frames < options_.motion_min_frames) continue;
         const bool rigid = agreement.relative_rms() <= options_.motion_tolerance;
-        if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, y->second, points)))
+        if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, recent, points)))
           continue;
         GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m, {})",
                                    younger, older, agreement.frames, agreement.rms_m,

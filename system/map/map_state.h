@@ -52,6 +52,10 @@ struct MapStateOptions {
   /// the smaller one's RMS radius (system/map/co_location.h). Rigid bodies cannot overlap, so
   /// these are pieces of one body, rigid or not (a cyclist's legs and frame). 0 = off.
   double co_location_ratio = 1.0;
+  /// Merging compares a younger cluster's last this many frames of trajectory only, so an
+  /// object tracked for minutes costs each window what a new one does. Long enough that a car
+  /// waiting at a light is not folded into the static world. 0 = its whole trajectory.
+  int merge_horizon_frames = 300;
   /// How an associated window cluster's frame is aligned to the map cluster's: true, by the
   /// best constant offset between the two trajectories over their shared frames (when they
   /// share motion_min_frames), so the stitched trajectory continues the map's without a jump;

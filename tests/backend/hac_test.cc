@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <cmath>
 #include <limits>
 #include <random>
@@ -133,6 +135,20 @@ TEST(Hac, SparseEngineHandlesInvalidEntriesLikeTheDenseOne) {
             (std::vector<int>{0, 0, 0, 1}));
   EXPECT_EQ(CompleteLinkageHac(FromEntries(3, {{0, 1, 10}, {1, 2, 11}, {0, 2, 100}}), o),
             (std::vector<int>{0, 0, 1}));
+}
+
+TEST(Hac, GivenTheDistancesToKeepItFreesThemAndAgreesWithTheCopyingCall) {
+  const SparseDistances d = FromEntries(4, {{0, 1, 1}, {1, 2, 20}, {0, 3, 5}, {1, 3, 70}});
+  for (int dense_limit : {0, 2048}) {
+    HacOptions o = Eps(60);
+    o.max_dense_items = dense_limit;
+    const std::vector<int> kept = CompleteLinkageHac(d, o);
+    EXPECT_EQ(d.entries.size(), 4u);
+    SparseDistances given = d;
+    EXPECT_EQ(CompleteLinkageHac(std::move(given), o), kept);
+    EXPECT_EQ(given.entries.capacity(), 0u);
+    EXPECT_EQ(given.landmarks, d.landmarks);
+  }
 }
 
 TEST(Hac, EmptyInputGivesNoLabels) {

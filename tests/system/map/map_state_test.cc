@@ -336,6 +336,27 @@ TEST(MapState, TwoPartsOfOneBodyThatIsNotRigidAreMergedBecauseTheyShareOnePlace)
   ExpectFollows(w, map, 1, 1);
 }
 
+// Object 1 drives for 40 frames and then stands: whether the map folds it into the static
+// world depends on how much of its trajectory merging looks at.
+bool StoppedObjectFoldsIntoTheStaticWorld(int merge_horizon_frames) {
+  World w = MakeWorld(80);
+  for (int f = 40; f < 80; ++f) w.world_from_object[0][f] = w.world_from_object[0][40];
+  MapStateOptions o;
+  o.merge_horizon_frames = merge_horizon_frames;
+  MapState map(o);
+  bool folded = false;
+  for (int begin = 0; begin + 30 <= 80; begin += 5)
+    for (const auto& [older, younger] : map.Integrate(PerfectWindow(w, {begin, begin + 30}, {{1, 1}, {2, 2}})).merged)
+      folded |= older == 0 && younger == 1;
+  return folded;
+}
+
+TEST(MapState, MergingLooksAtTheLastHorizonFramesOfATrajectory) {
+  EXPECT_FALSE(StoppedObjectFoldsIntoTheStaticWorld(0));   // it moved: never static
+  EXPECT_FALSE(StoppedObjectFoldsIntoTheStaticWorld(60));  // 40 still frames, movement in view
+  EXPECT_TRUE(StoppedObjectFoldsIntoTheStaticWorld(20));   // only still frames in view
+}
+
 TEST(MapState, OptionsRejectANegativeCoLocationRatio) {
   MapStateOptions o;
   o.co_location_ratio = -1;
