@@ -35,6 +35,8 @@ void MapStateOptions::Check() const {
               report_min_landmarks);
   CheckOption(report_min_frames >= 1, "report_min_frames", "must be at least 1",
               report_min_frames);
+  CheckOption(report_min_windows >= 1, "report_min_windows", "must be at least 1",
+              report_min_windows);
   CheckOption(retire_after_frames >= 0, "retire_after_frames", "must be >= 0 (0: never)",
               retire_after_frames);
   CheckOption(refine_camera_from >= 0, "refine_camera_from", "must be >= 0 (0: off)",
@@ -57,6 +59,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("refine_camera_from", &refine_camera_from);
   r.Read("report_min_landmarks", &report_min_landmarks);
   r.Read("report_min_frames", &report_min_frames);
+  r.Read("report_min_windows", &report_min_windows);
   r.Read("retire_after_frames", &retire_after_frames);
 }
 
@@ -104,6 +107,15 @@ int MapState::NumLiveClusters() const {
   for (const auto& [id, state] : landmarks_)
     if (state.cluster >= 1) live.insert(state.cluster);
   return static_cast<int>(live.size());
+}
+
+int MapState::WindowsCovering(int first, int last) const {
+  // A window that ends by `first` also begins before `last`: the two counts nest.
+  const auto begun = std::upper_bound(window_begins_.begin(), window_begins_.end(), last) -
+                     window_begins_.begin();
+  const auto ended = std::upper_bound(window_ends_.begin(), window_ends_.end(), first) -
+                     window_ends_.begin();
+  return static_cast<int>(begun - ended);
 }
 
 void MapState::RetireBefore(int frame) {
@@ -187,6 +199,11 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
   WindowIntegration info;
   info.range = window.range;
   window_last_frame_ = window.range.end - 1;
+  window_begins_.insert(std::upper_bound(window_begins_.begin(), window_begins_.end(),
+                                         window.range.begin),
+                        window.range.begin);
+  window_ends_.insert(std::upper_bound(window_ends_.begin(), window_ends_.end(), window.range.end),
+                      window.range.end);
   if (options_.retire_after_frames > 0) RetireBefore(window.range.begin - options_.retire_after_frames);
   CSLAM_CHECK(static_cast<int>(window.world_from_cam.size()) == window.range.size(),
               "window estimate needs one camera pose per frame");
@@ -422,6 +439,7 @@ void MapState::IntegrateCluster(const MotionEstimate& window, int label, const s
     ++info->created;
   }
   info->cluster_map.emplace_back(label, map_id);
+  ++clusters_[map_id].windows;
   MapCluster& mc = clusters_[map_id];
   const Pose wincluster_from_mapcluster = mapcluster_from_wincluster.inverse();
   for (size_t k = 0; k < motion.frames.size(); ++k) {
@@ -482,6 +500,7 @@ void MapState::MergeInto(int older, int younger, const Pose& older_from_younger)
   }
   if (older >= 1) {
     MapCluster& o = clusters_[older];
+    o.windows += clusters_[younger].windows;
     const Pose younger_from_older = older_from_younger.inverse();
     for (const auto& [f, pose] : clusters_[younger].world_from_cluster)
       o.world_from_cluster.try_emplace(f, pose * younger_from_older);

@@ -78,6 +78,12 @@ struct MapStateOptions {
   /// ones are outliers (cluster -1): a few points or a few frames say too little about a body.
   int report_min_landmarks = 5;
   int report_min_frames = 10;
+  /// ... and only when at least this many backend windows found it, or every window that
+  /// covered its frames when fewer did. The windows overlap by all but window_every frames,
+  /// so a body in view is found again and again; a cluster that one window found and the
+  /// next ones, seeing the same tracks, did not is that window's coincidence. A batch run's
+  /// one whole-sequence solve covers everything once.
+  int report_min_windows = 2;
   /// A landmark no window has labelled for this many frames is retired: it keeps its cluster
   /// and position for the outputs, but association, merging and stitching no longer look at
   /// it, so their cost does not grow with the run's length. A moving cluster whose landmarks
@@ -106,6 +112,9 @@ struct MapCluster {
   int id = -1;
   std::map<int, Pose> world_from_cluster;  ///< frame → pose, ascending frames
   int num_landmarks = 0;                   ///< landmarks currently assigned to it
+  /// Backend windows that found it: window clusters integrated into it, its merged clusters'
+  /// included.
+  int windows = 0;
 };
 
 /// Map state of the online system; see the file comment.
@@ -138,6 +147,8 @@ class MapState {
   /// Takes moving cluster `id` out of the map: its landmarks become outliers (cluster -1),
   /// kept at their world positions at the cluster's last pose.
   void ReleaseCluster(int id);
+  /// Integrated windows whose frames overlap [first, last].
+  int WindowsCovering(int first, int last) const;
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).
   const std::vector<int>& gaps() const { return gaps_; }
 
@@ -188,6 +199,7 @@ class MapState {
   int window_last_frame_ = -1;  ///< of the window being integrated
   std::map<int, MapCluster> clusters_;
   std::vector<int> gaps_;
+  std::vector<int> window_begins_, window_ends_;  ///< of every integrated window, each sorted
   int next_cluster_id_ = 1;
 };
 

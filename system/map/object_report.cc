@@ -1,5 +1,6 @@
 #include "system/map/object_report.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace cslam {
@@ -8,7 +9,11 @@ std::set<int> ReportedClusters(const MapState& map, const MapStateOptions& optio
   std::set<int> reported;
   for (const auto& [id, c] : map.clusters())
     if (c.num_landmarks >= options.report_min_landmarks &&
-        static_cast<int>(c.world_from_cluster.size()) >= options.report_min_frames)
+        static_cast<int>(c.world_from_cluster.size()) >= options.report_min_frames &&
+        !c.world_from_cluster.empty() &&
+        c.windows >= std::min(options.report_min_windows,
+                              map.WindowsCovering(c.world_from_cluster.begin()->first,
+                                                  c.world_from_cluster.rbegin()->first)))
       reported.insert(id);
   return reported;
 }

@@ -10,8 +10,9 @@
 
 namespace cslam {
 
-/// Ids of the moving clusters of `map` with at least options.report_min_landmarks landmarks
-/// and poses at at least options.report_min_frames frames.
+/// Ids of the moving clusters of `map` with at least options.report_min_landmarks landmarks,
+/// poses at at least options.report_min_frames frames, found by at least
+/// options.report_min_windows windows (or by every window covering its frames).
 std::set<int> ReportedClusters(const MapState& map, const MapStateOptions& options);
 
 /// Releases every moving cluster of `map` that is not reported (MapState::ReleaseCluster);

@@ -638,9 +638,10 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   const int candidates = static_cast<int>(out.map.clusters().size());
   const int released = KeepReportedObjects(&out.map, options.map);
   GetLogger("system")->info("{} of {} moving clusters reported as objects; the landmarks of the "
-                            "other {} (under {} landmarks or {} frames) are outliers (-1)",
+                            "other {} (under {} landmarks, {} frames or {} windows) are outliers (-1)",
                             candidates - released, candidates, released,
-                            options.map.report_min_landmarks, options.map.report_min_frames);
+                            options.map.report_min_landmarks, options.map.report_min_frames,
+                            options.map.report_min_windows);
   out.total_s = timer.ElapsedS();
   LogStageTimes(out);
   return out;

@@ -121,6 +121,12 @@ TEST(MapState, StitchesPerfectWindowsIntoTheTrueTrajectories) {
   EXPECT_EQ(map.ClusterOf(30), map.ClusterOf(44));
   EXPECT_NE(map.ClusterOf(30), map.ClusterOf(45));
   EXPECT_EQ(map.ClusterOf(0), 0);
+  // Windows 0..29, 5..34, …, 30..59: every one found both objects.
+  EXPECT_EQ(map.WindowsCovering(0, 59), 7);
+  EXPECT_EQ(map.WindowsCovering(0, 4), 1);
+  EXPECT_EQ(map.WindowsCovering(29, 30), 7);
+  EXPECT_EQ(map.WindowsCovering(59, 70), 1);
+  for (const auto& [id, cluster] : map.clusters()) EXPECT_EQ(cluster.windows, 7) << id;
 }
 
 // Gives the landmarks of `object` new ids in `e` (appended at the end), as a frontend does
@@ -186,6 +192,7 @@ TEST(MapState, AnObjectSplitIntoTwoMapClustersIsMergedUnderTheOlderId) {
   EXPECT_EQ(map.ClusterOf(30), 1);
   for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 1) << l;
   EXPECT_EQ(map.clusters().at(1).num_landmarks, 30);  // the old 15 and their 15 new ids
+  EXPECT_EQ(map.clusters().at(1).windows, 2);         // each piece was found once
   ASSERT_EQ(map.clusters().at(1).world_from_cluster.size(), 35u);
   ExpectFollows(w, map, 1, 1);
   ExpectFollows(w, map, 2, 2);

@@ -9,10 +9,12 @@ namespace {
 // clusters: 1 with 6 landmarks posed in every frame, 2 with only 3 landmarks, 3 with 6
 // landmarks posed in 5 frames only. Cluster c drives along x at c m per frame (one motion each:
 // the map would merge clusters that move alike).
-MotionEstimate Window() {
+// `begin` shifts the window along the same drive; without `third`, the window does not find
+// cluster 3 (its landmarks unlabelled).
+MotionEstimate Window(int begin = 0, bool third = true) {
   MotionEstimate e;
-  e.range = {0, 12};
-  for (int f = 0; f < 12; ++f) {
+  e.range = {begin, begin + 12};
+  for (int f = begin; f < begin + 12; ++f) {
     Pose cam = Pose::Identity();
     cam.translation() = Eigen::Vector3d(0, 0, f);
     e.world_from_cam.push_back(cam);
@@ -20,18 +22,18 @@ MotionEstimate Window() {
   const std::vector<int> sizes = {10, 6, 3, 6};
   for (int c = 0; c < 4; ++c)
     for (int i = 0; i < sizes[c]; ++i) {
-      e.landmark_cluster.push_back(c);
+      e.landmark_cluster.push_back(c == 3 && !third ? -1 : c);
       e.landmark_in_cluster.emplace_back(i, c, 20 + i);
     }
-  for (int c = 1; c <= 3; ++c) {
+  for (int c = 1; c <= (third ? 3 : 2); ++c) {
     ClusterMotion m;
     m.cluster = c;
-    for (int f = 0; f < (c == 3 ? 5 : 12); ++f) {
+    for (int f = begin; f < begin + (c == 3 ? 5 : 12); ++f) {
       Pose body = Pose::Identity();
       body.translation() = Eigen::Vector3d(c * f, 0, 0);
       m.frames.push_back(f);
       m.world_from_cluster.push_back(body);
-      m.cam_from_cluster.push_back(e.world_from_cam[f].inverse() * body);
+      m.cam_from_cluster.push_back(e.world_from_cam[f - begin].inverse() * body);
     }
     e.clusters.push_back(m);
   }
@@ -49,6 +51,23 @@ TEST(ObjectReport, OnlyClustersWithEnoughLandmarksAndFramesAreReported) {
   options.report_min_landmarks = 3;
   EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2}));
   options.report_min_frames = 5;
+  EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2, 3}));
+}
+
+TEST(ObjectReport, AClusterOnlyOneOfTheWindowsCoveringItFoundIsNotReported) {
+  MapStateOptions options;
+  options.report_min_landmarks = 3;
+  options.report_min_frames = 5;
+  MapState map;
+  map.Integrate(Window(0));
+  // One window so far (a batch run's whole-sequence solve): it covers everything once.
+  EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2, 3}));
+  map.Integrate(Window(2, /*third=*/false));
+  EXPECT_EQ(map.WindowsCovering(0, 4), 2);
+  EXPECT_EQ(map.clusters().at(1).windows, 2);
+  EXPECT_EQ(map.clusters().at(3).windows, 1);
+  EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2}));
+  options.report_min_windows = 1;
   EXPECT_EQ(ReportedClusters(map, options), std::set<int>({1, 2, 3}));
 }
 
