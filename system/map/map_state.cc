@@ -27,6 +27,8 @@ void MapStateOptions::Check() const {
   CheckOption(std::isfinite(co_location_ratio) && co_location_ratio >= 0, "co_location_ratio",
               "must be >= 0 (centroid distance / the smaller RMS radius; 0: off)",
               co_location_ratio);
+  CheckOption(co_location_min_frames >= 1, "co_location_min_frames",
+              "must be at least 1 (shared frames)", co_location_min_frames);
   CheckOption(merge_horizon_frames >= 0, "merge_horizon_frames", "must be >= 0 (0: all frames)",
               merge_horizon_frames);
   CheckOption(min_new_cluster_landmarks >= 1, "min_new_cluster_landmarks",
@@ -52,6 +54,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("motion_min_frames", &motion_min_frames);
   r.Read("motion_tolerance", &motion_tolerance);
   r.Read("co_location_ratio", &co_location_ratio);
+  r.Read("co_location_min_frames", &co_location_min_frames);
   r.Read("merge_horizon_frames", &merge_horizon_frames);
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
@@ -517,7 +520,8 @@ bool MapState::CoLocated(const MapCluster& older, const std::vector<int>& older_
   for (int l : older_ids) older_points.push_back(landmarks_.at(l).p_in_cluster);
   const CoLocation loc = CompareLocations(older.world_from_cluster, older_points,
                                           younger.world_from_cluster, younger_points);
-  return loc.frames >= options_.motion_min_frames && loc.median_ratio <= options_.co_location_ratio;
+  return loc.frames >= options_.co_location_min_frames &&
+         loc.median_ratio <= options_.co_location_ratio;
 }
 
 void MapState::MergeAgreeingClusters(WindowIntegration* info) {
@@ -551,9 +555,10 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
             CompareMotions(older == 0 ? StaticTrajectory(recent.world_from_cluster)
                                       : o->second.world_from_cluster,
                            recent.world_from_cluster, points, world_from_cam_,
-                           options_.motion_min_frames);
-        if (agreement.frames < options_.motion_min_frames) continue;
-        const bool rigid = agreement.relative_rms() <= options_.motion_tolerance;
+                           std::min(options_.motion_min_frames, options_.co_location_min_frames));
+        if (agreement.frames == 0) continue;
+        const bool rigid = agreement.frames >= options_.motion_min_frames &&
+                           agreement.relative_rms() <= options_.motion_tolerance;
         if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, recent, points)))
           continue;
         GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m, {})",

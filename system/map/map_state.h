@@ -52,6 +52,10 @@ struct MapStateOptions {
   /// the smaller one's RMS radius (system/map/co_location.h). Rigid bodies cannot overlap, so
   /// these are pieces of one body, rigid or not (a cyclist's legs and frame). 0 = off.
   double co_location_ratio = 1.0;
+  /// Shared frames the place test needs (≥ 1). Fewer than motion_min_frames: a body whose
+  /// tracks all turn over hands it from one window cluster to the next within a few frames,
+  /// too few to compare motions, while one shared frame already shows where both pieces lie.
+  int co_location_min_frames = 2;
   /// Merging compares a younger cluster's last this many frames of trajectory only, so an
   /// object tracked for minutes costs each window what a new one does. Long enough that a car
   /// waiting at a light is not folded into the static world. 0 = its whole trajectory.

@@ -343,6 +343,34 @@ TEST(MapState, TwoPartsOfOneBodyThatIsNotRigidAreMergedBecauseTheyShareOnePlace)
   ExpectFollows(w, map, 1, 1);
 }
 
+// Object 1's tracks all turn over as a new window begins: the next window finds it under new
+// landmark ids, sharing only 3 frames with the map cluster, too few to compare motions.
+int ClustersAfterAHandOver(int co_location_min_frames) {
+  const World w = MakeWorld(60);
+  MapStateOptions o;
+  o.co_location_min_frames = co_location_min_frames;
+  MapState map(o);
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  MotionEstimate e = PerfectWindow(w, {27, 57}, {{1, 1}, {2, 2}});
+  const std::vector<int> fresh = Reidentify(w, 1, &e);
+  map.Integrate(e);
+  EXPECT_EQ(map.ClusterOf(fresh[0]), map.ClusterOf(fresh[1]));
+  if (map.ClusterOf(fresh[0]) == 1) ExpectFollows(w, map, 1, 1);
+  return static_cast<int>(map.clusters().size());
+}
+
+TEST(MapState, ABodyHandedOverBetweenWindowsInAFewFramesIsMergedByPlace) {
+  EXPECT_EQ(ClustersAfterAHandOver(2), 2);  // objects 1 and 2
+  EXPECT_EQ(ClustersAfterAHandOver(3), 2);
+  EXPECT_EQ(ClustersAfterAHandOver(4), 3);  // more shared frames asked for than there are
+}
+
+TEST(MapState, OptionsRejectACoLocationTestWithoutFrames) {
+  MapStateOptions o;
+  o.co_location_min_frames = 0;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
 // Object 1 drives for 40 frames and then stands: whether the map folds it into the static
 // world depends on how much of its trajectory merging looks at.
 bool StoppedObjectFoldsIntoTheStaticWorld(int merge_horizon_frames) {
