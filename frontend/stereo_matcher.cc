@@ -42,6 +42,7 @@ void StereoMatcherOptions::Load(OptionsReader& reader) {
   reader.Read("max_disparity_px", &max_disparity_px);
   reader.Read("coarse_patch_px", &coarse_patch_px);
   reader.Read("max_ambiguity", &max_ambiguity);
+  reader.Read("unique_match", &unique_match);
   reader.Read("refine_radius_px", &refine_radius_px);
   reader.Read("patch_px", &patch_px);
   reader.Read("min_ncc", &min_ncc);
@@ -262,10 +263,29 @@ struct StereoMatcher::Impl {
   CoarseSearch coarse;
   cv::Mat left1, right1;
   std::vector<double> scores;
-  std::vector<float> strip, column;
+  std::vector<float> strip, column, other_strip;
+  std::vector<int> other_peaks;  // coarse indices of the other peaks that reach min_ncc
   ImagePatch patch;
   NccTemplate templ;
   SubPixelAligner aligner;
+
+  // Does one of other_peaks pass the photometric check at full resolution? templ holds the
+  // left window of the point p; cl and c_lo place the coarse search as in Match.
+  bool AnotherMatchPasses(const cv::Mat& right_grey, cv::Point2f p, int cl, int c_lo,
+                          const StereoMatcherOptions& o) {
+    const int half = o.patch_px / 2, radius = o.refine_radius_px;
+    const int strip_w = o.patch_px + 2 * radius;
+    double ncc[kMaxNccShifts] = {};
+    for (int k : other_peaks) {
+      const double u = p.x - 2.0 * (cl - (c_lo + k));
+      if (!SampleStrip(right_grey, static_cast<float>(u - radius - half), p.y - half, strip_w,
+                       o.patch_px, &other_strip))
+        continue;
+      NccAlongX(templ, other_strip, strip_w, 2 * radius + 1, ncc);
+      if (*std::max_element(ncc, ncc + 2 * radius + 1) >= o.min_ncc) return true;
+    }
+    return false;
+  }
 };
 
 StereoMatcher::StereoMatcher(const StereoMatcherOptions& options)
@@ -327,8 +347,16 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     const int k_best = static_cast<int>(best_it - m.scores.begin());
     // Second peak: the best score at least 2 coarse pixels from the best one.
     double second = -1;
-    for (int k = 0; k < static_cast<int>(m.scores.size()); ++k)
-      if (std::abs(k - k_best) >= 2) second = std::max(second, m.scores[k]);
+    const int n_scores = static_cast<int>(m.scores.size());
+    m.other_peaks.clear();
+    for (int k = 0; k < n_scores; ++k) {
+      if (std::abs(k - k_best) < 2) continue;
+      const double s = m.scores[k];
+      second = std::max(second, s);
+      if (o.unique_match && s >= o.min_ncc && (k == 0 || s >= m.scores[k - 1]) &&
+          (k + 1 == n_scores || s >= m.scores[k + 1]))
+        m.other_peaks.push_back(k);
+    }
     if (second > -1 && (1 - *best_it) > o.max_ambiguity * (1 - second)) {
       res.status = StereoReject::kAmbiguous;
       continue;
@@ -354,6 +382,10 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
     }
     if (res.ncc < o.min_ncc) {
       res.status = StereoReject::kPhotometric;
+      continue;
+    }
+    if (m.AnotherMatchPasses(right_grey, p, cl, c_lo, o)) {
+      res.status = StereoReject::kAmbiguous;
       continue;
     }
     const double cm = fine[s_best - 1], c0 = fine[s_best], cp = fine[s_best + 1];

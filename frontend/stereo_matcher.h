@@ -4,6 +4,16 @@
 // 1-D NCC along x at full resolution, then checks that each reject what is wrong on its own:
 // uniqueness, photometric score, row error (a vertical NCC fit), disparity range and the ORB
 // descriptor distance between the left point and its right match.
+//
+// Uniqueness is checked twice: the coarse best must stand out from the rest of the search
+// (max_ambiguity), and, with `unique_match`, no other disparity of the searched range may pass
+// the photometric check too. A pattern that repeats along the row (a dashed line across the
+// road, railings, a row of windows) has one acceptable match per period, and which one scores
+// best depends on slant and exposure, not on which is true: on KITTI raw 0005 the wrong dash
+// end scored 0.94 against the true one's 0.86. The wrong one puts the point at the depth of
+// another period, consistently along its track (a tracked point searches only near its last
+// disparity), so the static world cannot explain the track and a dashed line became a
+// "moving" object.
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
@@ -23,6 +33,10 @@ struct StereoMatcherOptions {
   int coarse_patch_px = 7;  ///< NCC window of the half-resolution search, px, odd, >= 3
   double max_ambiguity = 0.85;  ///< reject when (1 − best) > max_ambiguity · (1 − second-best
                                 ///< peak NCC) in the coarse search; in (0, 1], 1 = off
+  /// Reject a match when another disparity of the searched range passes min_ncc as well: a
+  /// coarse peak (≥ 2 coarse px from the best, at least min_ncc) whose full-resolution NCC
+  /// around it reaches min_ncc. See the file comment.
+  bool unique_match = true;
   int refine_radius_px = 3;     ///< full-resolution NCC search ± around the coarse match, px
   int patch_px = 11;            ///< full-resolution NCC window side, px, odd, >= 3
   double min_ncc = 0.75;        ///< photometric check on the refined match, in [-1, 1]
@@ -53,7 +67,8 @@ enum class StereoReject {
   kOk = 0,
   kOffImage,            ///< the windows (or the ORB patch) do not fit in the image
   kNoCandidate,         ///< no disparity of the range keeps the window inside the right image
-  kAmbiguous,           ///< a second correlation peak nearly as good as the best
+  kAmbiguous,           ///< a second correlation peak nearly as good as the best, or
+                        ///< another disparity that passes min_ncc too (unique_match)
   kNoPeak,              ///< full-resolution maximum on the edge of the refinement window
   kPhotometric,         ///< NCC below min_ncc
   kRowError,            ///< vertical offset above max_row_error_px

@@ -13,10 +13,16 @@ namespace cslam {
 namespace {
 
 constexpr int kFrames = 10;
-// The frontend with default options continues 490–780 tracks into each of frames 1–9 (fewest
-// at frame 9, where the car pitches over a bump); 400 leaves ~20 % margin and still fails a
-// frontend that loses half of its tracks.
+// The frontend with default options continues 481–664 tracks into each of frames 1–9 (fewest
+// at frames 1 and 9, where the car pitches over a bump); 400 leaves ~20 % margin and still
+// fails a frontend that loses half of its tracks. Frame 0 starts 610 of its 1 485 corners and
+// frames 1–9 hold 690–832 live tracks after the top-up. (Before the matcher refused corners
+// with a second acceptable match, StereoMatcherOptions::unique_match, these were 559–782
+// tracked, 838 started and 910–963 live: the corners of dashed lines, railings and rows of
+// windows on this street are now left out.)
 constexpr int kMinTrackedPerFrame = 400;
+constexpr int kMinStartedAtFrame0 = 500;
+constexpr int kMinLiveAfterTopUp = 550;
 // On odometry clip_a (faster: ~1.2 m per frame) the same frontend continues 558–670 tracks
 // into each of frames 1–9; 450 keeps the same ~20 % margin.
 constexpr int kMinTrackedOnClipA = 450;
@@ -42,11 +48,11 @@ class FrontendOnKitti : public ::testing::Test {
 };
 
 TEST_F(FrontendOnKitti, TracksEnoughLandmarksIntoEveryFrame) {
-  EXPECT_GE(summaries_[0].created, 2 * kMinTrackedPerFrame);
+  EXPECT_GE(summaries_[0].created, kMinStartedAtFrame0);
   for (int t = 1; t < kFrames; ++t) {
     EXPECT_GE(summaries_[t].tracked, kMinTrackedPerFrame) << "frame " << t;
     // Detection tops the live set back up towards the target.
-    EXPECT_GE(summaries_[t].tracked + summaries_[t].created, 800) << "frame " << t;
+    EXPECT_GE(summaries_[t].tracked + summaries_[t].created, kMinLiveAfterTopUp) << "frame " << t;
   }
 }
 
