@@ -29,6 +29,8 @@ void MapStateOptions::Check() const {
               co_location_ratio);
   CheckOption(co_location_min_frames >= 1, "co_location_min_frames",
               "must be at least 1 (shared frames)", co_location_min_frames);
+  CheckOption(merge_max_frames == 0 || merge_max_frames >= motion_min_frames, "merge_max_frames",
+              "must be 0 (every shared frame) or at least motion_min_frames", merge_max_frames);
   CheckOption(merge_horizon_frames >= 0, "merge_horizon_frames", "must be >= 0 (0: all frames)",
               merge_horizon_frames);
   CheckOption(min_new_cluster_landmarks >= 1, "min_new_cluster_landmarks",
@@ -56,6 +58,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("co_location_ratio", &co_location_ratio);
   r.Read("co_location_min_frames", &co_location_min_frames);
   r.Read("merge_horizon_frames", &merge_horizon_frames);
+  r.Read("merge_max_frames", &merge_max_frames);
   r.Read("merge_agreeing_clusters", &merge_agreeing_clusters);
   r.Read("min_new_cluster_landmarks", &min_new_cluster_landmarks);
   r.Read("stitch_by_motion", &stitch_by_motion);
@@ -180,11 +183,13 @@ struct MapState::Association {
 namespace {
 
 // The window's landmarks by label.
-std::map<int, std::vector<int>> GroupByLabel(const MotionEstimate& window) {
+// Map ids of the window's labelled landmarks by window label, ascending.
+std::map<int, std::vector<int>> GroupByLabel(const MotionEstimate& window,
+                                             const std::vector<int>* ids) {
   std::map<int, std::vector<int>> members;
   for (int l = 0; l < static_cast<int>(window.landmark_cluster.size()); ++l)
     if (window.landmark_cluster[l] >= 0 && window.landmark_in_cluster[l].allFinite())
-      members[window.landmark_cluster[l]].push_back(l);
+      members[window.landmark_cluster[l]].push_back(ids ? (*ids)[l] : l);
   return members;
 }
 
@@ -198,7 +203,17 @@ std::map<int, Pose> InMapWorld(const ClusterMotion& motion, const Pose& map_from
 
 }  // namespace
 
-WindowIntegration MapState::Integrate(const MotionEstimate& window) {
+const Eigen::Vector3d& MapState::WindowPoint(const MotionEstimate& window, int landmark) const {
+  if (!window_ids_) return window.landmark_in_cluster[landmark];
+  const auto it = std::lower_bound(window_ids_->begin(), window_ids_->end(), landmark);
+  CSLAM_CHECK(it != window_ids_->end() && *it == landmark, "landmark not in the window");
+  return window.landmark_in_cluster[it - window_ids_->begin()];
+}
+
+WindowIntegration MapState::Integrate(const MotionEstimate& window, const std::vector<int>* ids) {
+  CSLAM_CHECK(!ids || ids->size() >= window.landmark_cluster.size(),
+              "a compact window needs a map id per landmark");
+  window_ids_ = ids;
   WindowIntegration info;
   info.range = window.range;
   window_last_frame_ = window.range.end - 1;
@@ -212,9 +227,9 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
               "window estimate needs one camera pose per frame");
   const Pose map_from_window = ChainCamera(window, &info);
 
-  const std::map<int, std::vector<int>> members = GroupByLabel(window);
+  const std::map<int, std::vector<int>> members = GroupByLabel(window, ids);
   if (auto it = members.find(0); it != members.end())
-    for (int l : it->second) Assign(l, 0, map_from_window * window.landmark_in_cluster[l]);
+    for (int l : it->second) Assign(l, 0, map_from_window * WindowPoint(window, l));
 
   const std::vector<Candidate> candidates = AssociationCandidates(window, members);
   Association a;
@@ -239,6 +254,7 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window) {
     log->debug("map: window {}..{} clusters (window label->map id):{}", window.range.begin,
                window.range.end - 1, pairs);
   }
+  window_ids_ = nullptr;
   return info;
 }
 
@@ -355,10 +371,12 @@ void MapState::AssociateByMotion(const MotionEstimate& window,
     if (!motion || motion->frames.empty()) continue;
     const std::map<int, Pose> win = InMapWorld(*motion, map_from_window);
     std::vector<Eigen::Vector3d> points;
-    for (int l : members.at(c.window_label)) points.push_back(window.landmark_in_cluster[l]);
-    const MotionAgreement agreement =
-        CompareMotions(c.map_id == 0 ? StaticTrajectory(win) : clusters_[c.map_id].world_from_cluster,
-                       win, points, world_from_cam_);
+    for (int l : members.at(c.window_label)) points.push_back(WindowPoint(window, l));
+    // By reference: `cond ? prvalue : lvalue` would copy the map cluster's whole trajectory.
+    const std::map<int, Pose> still = c.map_id == 0 ? StaticTrajectory(win) : std::map<int, Pose>{};
+    const std::map<int, Pose>& map_trajectory =
+        c.map_id == 0 ? still : clusters_[c.map_id].world_from_cluster;
+    const MotionAgreement agreement = CompareMotions(map_trajectory, win, points, world_from_cam_);
     log->debug("map: window cluster {} vs map cluster {}: motion over {} frames, RMS {:.3f} m, "
                "relative {:.4f}", c.window_label, c.map_id, agreement.frames, agreement.rms_m,
                agreement.relative_rms());
@@ -368,7 +386,7 @@ void MapState::AssociateByMotion(const MotionEstimate& window,
       a->to_static[c.window_label] = true;
       info->cluster_map.emplace_back(c.window_label, 0);
       for (int l : members.at(c.window_label))
-        Assign(l, 0, agreement.a_from_b * window.landmark_in_cluster[l]);
+        Assign(l, 0, agreement.a_from_b * WindowPoint(window, l));
       ++info->by_motion;
       continue;
     }
@@ -387,7 +405,7 @@ std::optional<Pose> MapState::AlignToMapCluster(const MotionEstimate& window, in
   const MapCluster& mc = clusters_[map_id];
   if (options_.stitch_by_motion) {
     std::vector<Eigen::Vector3d> points;
-    for (int l : ids) points.push_back(window.landmark_in_cluster[l]);
+    for (int l : ids) points.push_back(WindowPoint(window, l));
     const MotionAgreement stitch = CompareMotions(
         mc.world_from_cluster, InMapWorld(motion, map_from_window), points, world_from_cam_);
     if (stitch.frames >= options_.motion_min_frames) return stitch.a_from_b;
@@ -395,7 +413,7 @@ std::optional<Pose> MapState::AlignToMapCluster(const MotionEstimate& window, in
   std::vector<Eigen::Vector3d> src, dst;  // shared landmarks
   for (int l : ids) {
     if (ClusterOf(l) != map_id) continue;
-    src.push_back(window.landmark_in_cluster[l]);
+    src.push_back(WindowPoint(window, l));
     dst.push_back(landmarks_[l].p_in_cluster);
   }
   if (static_cast<int>(src.size()) >= options_.min_shared_for_alignment)
@@ -451,7 +469,7 @@ void MapState::IntegrateCluster(const MotionEstimate& window, int label, const s
     mc.world_from_cluster.try_emplace(
         motion.frames[k], map_from_window * motion.world_from_cluster[k] * wincluster_from_mapcluster);
   }
-  for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * window.landmark_in_cluster[l]);
+  for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * WindowPoint(window, l));
 }
 
 void MapState::Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster) {
@@ -551,11 +569,13 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
         if (older >= younger) break;
         const auto o = clusters_.find(older);
         if (older >= 1 && o == clusters_.end()) continue;
+        const std::map<int, Pose> still =
+            older == 0 ? StaticTrajectory(recent.world_from_cluster) : std::map<int, Pose>{};
         const MotionAgreement agreement =
-            CompareMotions(older == 0 ? StaticTrajectory(recent.world_from_cluster)
-                                      : o->second.world_from_cluster,
+            CompareMotions(older == 0 ? still : o->second.world_from_cluster,
                            recent.world_from_cluster, points, world_from_cam_,
-                           std::min(options_.motion_min_frames, options_.co_location_min_frames));
+                           std::min(options_.motion_min_frames, options_.co_location_min_frames),
+                           options_.merge_max_frames);
         if (agreement.frames == 0) continue;
         const bool rigid = agreement.frames >= options_.motion_min_frames &&
                            agreement.relative_rms() <= options_.motion_tolerance;

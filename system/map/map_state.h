@@ -60,6 +60,10 @@ struct MapStateOptions {
   /// object tracked for minutes costs each window what a new one does. Long enough that a car
   /// waiting at a light is not folded into the static world. 0 = its whole trajectory.
   int merge_horizon_frames = 300;
+  /// ... and fits each pair's motions on at most this many of their shared frames, evenly
+  /// spread (a backend window's length): the comparison then costs the same for an object
+  /// tracked for minutes as for a young one. 0 = every shared frame.
+  int merge_max_frames = 30;
   /// How an associated window cluster's frame is aligned to the map cluster's: true, by the
   /// best constant offset between the two trajectories over their shared frames (when they
   /// share motion_min_frames), so the stitched trajectory continues the map's without a jump;
@@ -126,7 +130,11 @@ class MapState {
  public:
   explicit MapState(MapStateOptions options = {});
 
-  WindowIntegration Integrate(const MotionEstimate& window);
+  /// Folds a window's estimate into the map. `ids` (may be null): the window's landmarks are
+  /// numbered 0..m−1 and ids[l] (ascending) is landmark l's id in the map, as
+  /// TrackletTable::CompactSlice numbers them, so a window costs what it holds however many
+  /// landmarks the run has made; null: the window is indexed by map id.
+  WindowIntegration Integrate(const MotionEstimate& window, const std::vector<int>* ids = nullptr);
 
   /// Frames 0..num_frames()-1; frames never covered by a window have no pose.
   int num_frames() const { return static_cast<int>(world_from_cam_.size()); }
@@ -201,6 +209,9 @@ class MapState {
   std::unordered_map<int, LandmarkState> retired_;
   std::unordered_map<int, std::vector<int>> retired_by_cluster_;  ///< moving clusters only
   int window_last_frame_ = -1;  ///< of the window being integrated
+  const std::vector<int>* window_ids_ = nullptr;  ///< its compact numbering, while integrated
+  /// A landmark's position in its window cluster, by map id.
+  const Eigen::Vector3d& WindowPoint(const MotionEstimate& window, int landmark) const;
   std::map<int, MapCluster> clusters_;
   std::vector<int> gaps_;
   std::vector<int> window_begins_, window_ends_;  ///< of every integrated window, each sorted

@@ -11,7 +11,7 @@ MotionAgreement CompareMotions(const std::map<int, Pose>& world_from_a,
                                const std::map<int, Pose>& world_from_b,
                                const std::vector<Eigen::Vector3d>& given_points,
                                const std::vector<std::optional<Pose>>& world_from_cam,
-                               int min_frames) {
+                               int min_frames, int max_frames) {
   MotionAgreement result;
   // The shared frames, by walking both (frame-ordered) maps once.
   std::vector<std::pair<const Pose*, const Pose*>> shared;  // (a, b) per shared frame
@@ -22,6 +22,16 @@ MotionAgreement CompareMotions(const std::map<int, Pose>& world_from_a,
   });
   result.frames = static_cast<int>(shared.size());
   if (result.frames == 0 || result.frames < min_frames) return result;
+  if (max_frames > 0 && result.frames > max_frames) {
+    const size_t n = shared.size();
+    for (size_t k = 0; k < static_cast<size_t>(max_frames); ++k) {
+      const size_t from = max_frames == 1 ? n - 1 : k * (n - 1) / static_cast<size_t>(max_frames - 1);
+      shared[k] = shared[from];
+      shared_frames[k] = shared_frames[from];
+    }
+    shared.resize(max_frames);
+    shared_frames.resize(max_frames);
+  }
   std::vector<Eigen::Vector3d> padded;
   const std::vector<Eigen::Vector3d>* points = &given_points;
   if (given_points.size() < 3) {

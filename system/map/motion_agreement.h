@@ -28,12 +28,15 @@ struct MotionAgreement {
 /// Fewer than 3 points are padded with points 1 m along the axes from their centroid (the
 /// origin if none), so a rotation is still measured. frames == 0 when nothing is shared.
 /// With fewer than `min_frames` shared frames only `frames` is filled (the caller's test
-/// fails anyway; the map compares every pair of clusters after each window).
+/// fails anyway; the map compares every pair of clusters after each window). With more than
+/// `max_frames` (> 0) shared frames the fit and the RMS use that many of them, evenly spread
+/// from the first to the last: the cost of a comparison then stops growing with the clusters'
+/// ages (`frames` still counts them all).
 MotionAgreement CompareMotions(const std::map<int, Pose>& world_from_a,
                                const std::map<int, Pose>& world_from_b,
                                const std::vector<Eigen::Vector3d>& points_in_b,
                                const std::vector<std::optional<Pose>>& world_from_cam = {},
-                               int min_frames = 1);
+                               int min_frames = 1, int max_frames = 0);
 
 /// A trajectory that holds still at the identity at `frames` (the static world seen as a
 /// cluster).

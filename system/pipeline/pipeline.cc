@@ -79,21 +79,6 @@ class TrackingStage {
   TrackletTable table_;
 };
 
-// A compact window's estimate (TrackletTable::CompactSlice) re-indexed by the map's landmark
-// ids, as MapState::Integrate reads it.
-void ToMapIds(const std::vector<int>& ids, MotionEstimate* e) {
-  const size_t n = ids.empty() ? 0 : static_cast<size_t>(ids.back()) + 1;
-  std::vector<int> cluster(n, -1);
-  std::vector<Eigen::Vector3d> in_cluster(
-      n, Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
-  for (size_t l = 0; l < ids.size(); ++l) {
-    if (l < e->landmark_cluster.size()) cluster[ids[l]] = e->landmark_cluster[l];
-    if (l < e->landmark_in_cluster.size()) in_cluster[ids[l]] = e->landmark_in_cluster[l];
-  }
-  e->landmark_cluster = std::move(cluster);
-  e->landmark_in_cluster = std::move(in_cluster);
-}
-
 // Runs backend windows and folds them into the map.
 class BackendStage {
  public:
@@ -161,10 +146,9 @@ class BackendStage {
                                 "their points over {} x farther than measured",
                                 range.begin, range.end - 1, dropped,
                                 options_.sanity.max_cluster_depth_ratio);
-    if (ids) ToMapIds(*ids, &result.estimate);
     timer.Reset();
     const double integrate_cpu_start = ThreadCpuMs();
-    stats.integration = map_.Integrate(result.estimate);
+    stats.integration = map_.Integrate(result.estimate, ids);
     stats.integrate_ms = timer.ElapsedMs();
     stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
     stats.live_clusters = map_.NumLiveClusters();

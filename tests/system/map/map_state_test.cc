@@ -365,6 +365,56 @@ TEST(MapState, ABodyHandedOverBetweenWindowsInAFewFramesIsMergedByPlace) {
   EXPECT_EQ(ClustersAfterAHandOver(4), 3);  // more shared frames asked for than there are
 }
 
+TEST(MapState, ACompactWindowIntegratesAsTheSameWindowNumberedByMapIds) {
+  const World w = MakeWorld(40);
+  std::vector<MotionEstimate> by_map_id;
+  for (int begin : {0, 5}) {
+    MotionEstimate e = PerfectWindow(w, {begin, begin + 30}, {{1, 1}, {2, 2}});
+    // Every third landmark is not in the window: the compact numbering skips its id.
+    for (size_t l = 0; l < e.landmark_cluster.size(); ++l)
+      if (l % 3 == 1) {
+        e.landmark_cluster[l] = -1;
+        e.landmark_in_cluster[l] = Eigen::Vector3d::Constant(NAN);
+      }
+    by_map_id.push_back(e);
+  }
+  MapState wide, compact;
+  for (const MotionEstimate& e : by_map_id) {
+    MotionEstimate c = e;
+    std::vector<int> ids;
+    c.landmark_cluster.clear();
+    c.landmark_in_cluster.clear();
+    for (size_t l = 0; l < e.landmark_cluster.size(); ++l) {
+      if (e.landmark_cluster[l] < 0) continue;
+      ids.push_back(static_cast<int>(l));
+      c.landmark_cluster.push_back(e.landmark_cluster[l]);
+      c.landmark_in_cluster.push_back(e.landmark_in_cluster[l]);
+    }
+    wide.Integrate(e);
+    compact.Integrate(c, &ids);
+  }
+  ASSERT_EQ(compact.clusters().size(), wide.clusters().size());
+  for (size_t l = 0; l < w.label.size(); ++l) {
+    const int id = static_cast<int>(l);
+    EXPECT_EQ(compact.ClusterOf(id), wide.ClusterOf(id)) << l;
+    if (l % 3 == 1) {
+      EXPECT_EQ(compact.ClusterOf(id), -1) << l;
+      continue;
+    }
+    ASSERT_TRUE(compact.WorldPosition(id, 20).has_value()) << l;
+    EXPECT_TRUE(testing::MatrixNear(*compact.WorldPosition(id, 20), *wide.WorldPosition(id, 20), 1e-12));
+  }
+  ExpectFollows(w, compact, 1, 1);
+}
+
+TEST(MapState, OptionsRejectAMergeFrameCapBelowTheMotionTestsMinimum) {
+  MapStateOptions o;
+  o.merge_max_frames = 3;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o.merge_max_frames = 0;
+  EXPECT_NO_THROW(o.Check());
+}
+
 TEST(MapState, OptionsRejectACoLocationTestWithoutFrames) {
   MapStateOptions o;
   o.co_location_min_frames = 0;

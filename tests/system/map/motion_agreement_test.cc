@@ -62,6 +62,23 @@ TEST(MotionAgreement, AStaticTrajectoryAgreesWithABodyThatHoldsStill) {
   EXPECT_GT(moving.rms_m, 1.0);
 }
 
+TEST(MotionAgreement, FittingOnEvenlySpreadFramesCountsThemAllAndFindsTheSameAnswer) {
+  const Pose a_from_b = MakePose(0.4, 1, -2, 0.5);
+  std::map<int, Pose> b;
+  for (const auto& [f, pose] : Body(0, 200, 1.0)) b[f] = pose * a_from_b;
+  const MotionAgreement capped = CompareMotions(Body(0, 200, 1.0), b, kPoints, Camera(200), 5, 30);
+  EXPECT_EQ(capped.frames, 200);
+  EXPECT_LT(capped.rms_m, 1e-9);
+  EXPECT_TRUE(testing::PoseNear(capped.a_from_b, a_from_b, 1e-9, 1e-9));
+  // A drift is measured on the spread frames about as on all of them (a ramp's RMS).
+  const MotionAgreement all = CompareMotions(Body(0, 200, 1.0), Body(0, 200, 1.01), kPoints, Camera(200));
+  const MotionAgreement spread =
+      CompareMotions(Body(0, 200, 1.0), Body(0, 200, 1.01), kPoints, Camera(200), 5, 30);
+  EXPECT_GT(all.rms_m, 0.5);
+  EXPECT_NEAR(spread.rms_m, all.rms_m, 0.05 * all.rms_m);
+  EXPECT_NEAR(spread.mean_range_m, all.mean_range_m, 0.05 * all.mean_range_m);
+}
+
 TEST(MotionAgreement, NoSharedFrameMeansNothingToCompare) {
   const MotionAgreement m = CompareMotions(Body(0, 10, 1.0), Body(10, 20, 1.0), kPoints, Camera(20));
   EXPECT_EQ(m.frames, 0);
