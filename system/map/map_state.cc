@@ -73,8 +73,7 @@ MapState::MapState(MapStateOptions options) : options_(options) { options_.Check
 
 const MapState::LandmarkState* MapState::Find(int landmark) const {
   if (const auto it = landmarks_.find(landmark); it != landmarks_.end()) return &it->second;
-  if (const auto it = retired_.find(landmark); it != retired_.end()) return &it->second;
-  return nullptr;
+  return retired_.Find(landmark);
 }
 
 int MapState::ClusterOf(int landmark) const {
@@ -103,7 +102,7 @@ std::vector<int> MapState::Landmarks() const {
   std::vector<int> ids;
   ids.reserve(landmarks_.size() + retired_.size());
   for (const auto& [id, state] : landmarks_) ids.push_back(id);
-  for (const auto& [id, state] : retired_) ids.push_back(id);
+  retired_.ForEach([&](int id, const LandmarkState&) { ids.push_back(id); });
   std::sort(ids.begin(), ids.end());
   return ids;
 }
@@ -131,9 +130,25 @@ void MapState::RetireBefore(int frame) {
       continue;
     }
     if (it->second.cluster >= 1) retired_by_cluster_[it->second.cluster].push_back(it->first);
-    retired_.emplace(it->first, it->second);
+    retired_.Put(it->first, it->second);
     it = landmarks_.erase(it);
   }
+}
+
+void MapState::RetiredStates::Put(int id, const LandmarkState& state) {
+  if (id >= static_cast<int>(present_.size())) {
+    present_.resize(static_cast<size_t>(id) + 1, 0);
+    states_.resize(static_cast<size_t>(id) + 1);
+  }
+  if (!present_[id]) ++count_;
+  present_[id] = 1;
+  states_[id] = state;
+}
+
+void MapState::RetiredStates::Erase(int id) {
+  if (id < 0 || id >= static_cast<int>(present_.size()) || !present_[id]) return;
+  present_[id] = 0;
+  --count_;
 }
 
 void MapState::ReleaseCluster(int id) {
@@ -141,13 +156,17 @@ void MapState::ReleaseCluster(int id) {
   if (id < 1 || c == clusters_.end()) return;
   const Pose last = c->second.world_from_cluster.empty() ? Pose::Identity()
                                                          : c->second.world_from_cluster.rbegin()->second;
-  for (auto* states : {&landmarks_, &retired_})
-    for (auto& [l, state] : *states) {
-      if (state.cluster != id) continue;
-      state.cluster = -1;
-      state.p_in_cluster = last * state.p_in_cluster;
-    }
-  retired_by_cluster_.erase(id);
+  const auto release = [&](LandmarkState& state) {
+    state.cluster = -1;
+    state.p_in_cluster = last * state.p_in_cluster;
+  };
+  for (auto& [l, state] : landmarks_)
+    if (state.cluster == id) release(state);
+  if (const auto r = retired_by_cluster_.find(id); r != retired_by_cluster_.end()) {
+    for (int l : r->second)
+      if (LandmarkState* state = retired_.Find(l); state && state->cluster == id) release(*state);
+    retired_by_cluster_.erase(r);
+  }
   clusters_.erase(c);
 }
 
@@ -473,10 +492,10 @@ void MapState::IntegrateCluster(const MotionEstimate& window, int label, const s
 }
 
 void MapState::Assign(int landmark, int cluster, const Eigen::Vector3d& p_in_cluster) {
-  if (const auto r = retired_.find(landmark); r != retired_.end()) {  // seen again: live again
-    if (r->second.cluster >= 1) std::erase(retired_by_cluster_[r->second.cluster], landmark);
-    landmarks_.emplace(landmark, r->second);
-    retired_.erase(r);
+  if (const LandmarkState* r = retired_.Find(landmark)) {  // seen again: live again
+    if (r->cluster >= 1) std::erase(retired_by_cluster_[r->cluster], landmark);
+    landmarks_.emplace(landmark, *r);
+    retired_.Erase(landmark);
   }
   auto& state = landmarks_.try_emplace(landmark).first->second;
   state.last_frame = window_last_frame_;
@@ -508,7 +527,7 @@ void MapState::MergeInto(int older, int younger, const Pose& older_from_younger)
   if (const auto it = retired_by_cluster_.find(younger); it != retired_by_cluster_.end()) {
     // Retired landmarks follow their cluster (counted as members by the Assign above: none).
     for (int l : it->second) {
-      LandmarkState& state = retired_.at(l);
+      LandmarkState& state = *retired_.Find(l);
       state.cluster = older;
       state.p_in_cluster = older_from_younger * state.p_in_cluster;
       if (older >= 1) ++clusters_[older].num_landmarks;

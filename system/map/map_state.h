@@ -206,7 +206,29 @@ class MapState {
   MapStateOptions options_;
   std::vector<std::optional<Pose>> world_from_cam_;
   std::unordered_map<int, LandmarkState> landmarks_;  ///< live
-  std::unordered_map<int, LandmarkState> retired_;
+  /// Retired landmarks by id: they only accumulate, so a vector indexed by id holds them in
+  /// a few dozen bytes each, and retiring one costs a write, not a node in a growing table.
+  class RetiredStates {
+   public:
+    LandmarkState* Find(int id) {
+      return id >= 0 && id < static_cast<int>(present_.size()) && present_[id] ? &states_[id] : nullptr;
+    }
+    const LandmarkState* Find(int id) const { return const_cast<RetiredStates*>(this)->Find(id); }
+    void Put(int id, const LandmarkState& state);
+    void Erase(int id);
+    size_t size() const { return count_; }
+    template <typename F>
+    void ForEach(F&& f) const {
+      for (size_t id = 0; id < present_.size(); ++id)
+        if (present_[id]) f(static_cast<int>(id), states_[id]);
+    }
+
+   private:
+    std::vector<LandmarkState> states_;
+    std::vector<char> present_;
+    size_t count_ = 0;
+  };
+  RetiredStates retired_;
   std::unordered_map<int, std::vector<int>> retired_by_cluster_;  ///< moving clusters only
   int window_last_frame_ = -1;  ///< of the window being integrated
   const std::vector<int>* window_ids_ = nullptr;  ///< its compact numbering, while integrated
