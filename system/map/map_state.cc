@@ -201,7 +201,6 @@ struct MapState::Association {
 
 namespace {
 
-// The window's landmarks by label.
 // Map ids of the window's labelled landmarks by window label, ascending.
 std::map<int, std::vector<int>> GroupByLabel(const MotionEstimate& window,
                                              const std::vector<int>* ids) {
