@@ -325,7 +325,11 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
               row = static_cast<int>(std::lround(p.y / 2));
     if (!(row - ch >= 0 && row + ch < m.left1.rows && cl - ch >= 0 && cl + ch < m.left1.cols))
       continue;
-    // A tracked point's last disparity narrows the search to where it can be a frame later.
+    // A tracked point's last disparity narrows where its match can be a frame later. With
+    // unique_match the whole range is still searched for the other matches: a track that
+    // took a repeated pattern's wrong period keeps it while the search is narrowed, because
+    // the true period, outside the window, is never seen (KITTI raw 0005: dashes of a line
+    // across the road, matched to the next dash, whose points then moved like a body).
     int lo = d1_min, hi = d1_max;
     if (!prior_disparity.empty() && prior_disparity[i] > 0) {
       const double d = prior_disparity[i];
@@ -333,9 +337,11 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
       lo = std::max(d1_min, static_cast<int>(std::floor((d - margin) / 2)));
       hi = std::min(d1_max, static_cast<int>(std::ceil((d + margin) / 2)));
     }
-    const int c_lo = std::max(ch, cl - hi);
-    const int c_hi = std::min(m.right1.cols - 1 - ch, cl - lo);
-    if (c_hi < c_lo) {
+    const int c_lo = std::max(ch, cl - (o.unique_match ? d1_max : hi));
+    const int c_hi = std::min(m.right1.cols - 1 - ch, cl - (o.unique_match ? d1_min : lo));
+    // The candidates the best match may be chosen from: indices [k_lo, k_hi] of the scores.
+    const int k_lo = std::max(c_lo, cl - hi) - c_lo, k_hi = std::min(c_hi, cl - lo) - c_lo;
+    if (c_hi < c_lo || k_hi < k_lo) {
       res.status = StereoReject::kNoCandidate;
       continue;
     }
@@ -343,7 +349,7 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
       res.status = StereoReject::kPhotometric;
       continue;
     }
-    const auto best_it = std::max_element(m.scores.begin(), m.scores.end());
+    const auto best_it = std::max_element(m.scores.begin() + k_lo, m.scores.begin() + k_hi + 1);
     const int k_best = static_cast<int>(best_it - m.scores.begin());
     // Second peak: the best score at least 2 coarse pixels from the best one.
     double second = -1;

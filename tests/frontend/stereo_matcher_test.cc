@@ -186,6 +186,28 @@ TEST(StereoMatcher, ADashedLineAcrossTheRowIsAmbiguousWhereTheBestPeakStandsOut)
   EXPECT_GE(passed_ratio, static_cast<int>(ends.size()) / 2);
 }
 
+TEST(StereoMatcher, ATrackHeldOnTheNextDashIsRefusedThoughTheTrueDashIsOutsideItsWindow) {
+  // A tracked dash end whose last disparity is a period too large (it was matched to the
+  // neighbouring dash): only d ± (6 px + 30 %) is where its match may be, which leaves the
+  // true disparity, 40 px less, outside. The other dash must still be seen.
+  std::vector<cv::Point2f> ends;
+  const Pair pair = DashedLine(&ends);
+  ASSERT_GE(ends.size(), 10u);
+  const std::vector<float> wrong_period(ends.size(), 20.f + 40.f);
+  StereoMatcherOptions ratio_only;
+  ratio_only.unique_match = false;
+  StereoMatcher old_matcher(ratio_only), matcher{StereoMatcherOptions{}};
+  const std::vector<StereoMatch> before = old_matcher.Match(pair.left, pair.right, ends, wrong_period);
+  const std::vector<StereoMatch> after = matcher.Match(pair.left, pair.right, ends, wrong_period);
+  int kept_wrong = 0;
+  for (size_t i = 0; i < ends.size(); ++i) {
+    kept_wrong += before[i].ok() && std::abs(ends[i].x - before[i].u_right - 60.f) < 1.f;
+    EXPECT_EQ(after[i].status, StereoReject::kAmbiguous) << "dash end at " << ends[i];
+  }
+  // Searched near the prior only, the wrong period passes every check for most of them.
+  EXPECT_GE(kept_wrong, static_cast<int>(ends.size()) / 2);
+}
+
 TEST(StereoMatcher, TextureThatDoesNotRepeatKeepsItsMatchesUnderTheUniquenessCheck) {
   const Pair pair = SlantedPlane(5);
   const std::vector<cv::Point2f> pts = testing::TestCorners(pair.left);
