@@ -111,18 +111,20 @@ PipelineOptions LoadPipelineOptions(Preset preset, const std::string& config_fil
                                     std::optional<InputKind> input_kind) {
   PipelineOptions o;
   o.ApplyPreset(preset);
+  // The recommended settings for the input come first and a given file changes only the keys
+  // it sets: a file that tunes one value must not silently drop the rest of them.
   const std::optional<BuiltinConfig> builtin =
-      config_file.empty() && input_kind ? BuiltinConfigFor(*input_kind) : std::nullopt;
+      input_kind ? BuiltinConfigFor(*input_kind) : std::nullopt;
   if (builtin) {
     YAML::Node node = YAML::Load(builtin->yaml);
-    node.remove("output");  // renders stay as the defaults say
+    node.remove("output");  // renders stay as the defaults (or the given file) say
     OptionsReader r(node, "built-in " + builtin->name);
     r.LoadInto(&o);
     o.source = "built-in " + builtin->name + " (recommended for " + NameOf(kInputKindNames, *input_kind) +
                " input; its output section not applied)";
   }
   if (!config_file.empty()) {
-    o.source = config_file;
+    o.source = builtin ? config_file + " over the " + o.source : config_file;
     auto r = OptionsReader::FromFile(config_file);
     r.LoadInto(&o);
     // A value out of range came from the file: name it and the line (Check() knows the key).

@@ -140,8 +140,9 @@ struct PipelineOptions {
 };
 
 /// Defaults for a preset, optionally overridden by a YAML file ("" = none).
-/// The preset's defaults, then `config_file` when given, else the recommended configuration
-/// of `input_kind` (system/pipeline/builtin_configs.h) when there is one.
+/// The preset's defaults, then the recommended configuration of `input_kind`
+/// (system/pipeline/builtin_configs.h; its output section left out) when there is one, then
+/// `config_file` when given: the file changes only the keys it sets.
 /// Errors in the file name it, the line and the key path ("config.yaml:3: backend.hac: …").
 PipelineOptions LoadPipelineOptions(Preset preset, const std::string& config_file,
                                     std::optional<InputKind> input_kind = std::nullopt);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "system/pipeline/pipeline_options.h"
 
@@ -25,8 +26,8 @@ TEST(Configs, EveryShippedConfigLoadsAndNamesItsPreset) {
 }
 
 // `cslam run` without --config: a KITTI input gets its shipped config's estimation settings
-// (the same tree as loading the file, renders aside); a given file wins; synthetic input keeps
-// the built-in defaults.
+// (the same tree as loading the file, renders aside); synthetic input keeps the built-in
+// defaults.
 TEST(Configs, KittiInputsWithoutAConfigGetTheirShippedSettings) {
   for (const InputKind input_kind : {InputKind::kKittiRaw, InputKind::kKittiOdometry}) {
     const std::string kind = NameOf(kInputKindNames, input_kind);
@@ -42,13 +43,41 @@ TEST(Configs, KittiInputsWithoutAConfigGetTheirShippedSettings) {
     builtin.output = loaded.output;
     builtin.source = loaded.source;
     EXPECT_EQ(builtin.ToYaml(), loaded.ToYaml());
+    // The shipped file given for its own kind of input is the recommended settings plus its
+    // renders.
+    PipelineOptions both = LoadPipelineOptions(Preset::kOutdoor, file, input_kind);
+    both.source = loaded.source;
+    EXPECT_EQ(both.ToYaml(), loaded.ToYaml());
   }
-  const PipelineOptions given =
-      LoadPipelineOptions(Preset::kOutdoor, std::string(CSLAM_CONFIGS_DIR) + "/synthetic_outdoor.yaml", InputKind::kKittiRaw);
-  EXPECT_EQ(given.backend.motion.bundle_adjustment.far_depth_baselines, 0);
   const PipelineOptions synthetic = LoadPipelineOptions(Preset::kOutdoor, "", InputKind::kSynthetic);
   EXPECT_EQ(synthetic.source, "built-in defaults");
   EXPECT_FALSE(synthetic.calibration.estimate_disparity_offset);
+}
+
+// A user's file that tunes one value changes that value only: the recommended settings of
+// the input kind stay under it (a file used to replace them, and a one-line tweak lost them).
+TEST(Configs, AGivenFileChangesOnlyTheKeysItSetsOverTheRecommendedSettings) {
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "cslam_configs_test_one_key.yaml";
+  {
+    std::ofstream out(file);
+    out << "frontend:\n  stereo:\n    min_ncc: 0.8\n";
+  }
+  const PipelineOptions recommended = LoadPipelineOptions(Preset::kOutdoor, "", InputKind::kKittiRaw);
+  PipelineOptions tuned = LoadPipelineOptions(Preset::kOutdoor, file.string(), InputKind::kKittiRaw);
+  EXPECT_DOUBLE_EQ(tuned.frontend.stereo.min_ncc, 0.8);
+  EXPECT_NE(recommended.frontend.stereo.min_ncc, 0.8);
+  EXPECT_EQ(tuned.backend.motion.bundle_adjustment.far_depth_baselines, 35);
+  EXPECT_TRUE(tuned.calibration.estimate_disparity_offset);
+  EXPECT_NE(tuned.source.find(file.string()), std::string::npos);
+  EXPECT_NE(tuned.source.find("configs/kitti_raw.yaml"), std::string::npos);
+  tuned.frontend.stereo.min_ncc = recommended.frontend.stereo.min_ncc;
+  tuned.source = recommended.source;
+  EXPECT_EQ(tuned.ToYaml(), recommended.ToYaml());
+  // Without an input kind (or for synthetic input) the file lies over the plain defaults.
+  const PipelineOptions plain = LoadPipelineOptions(Preset::kOutdoor, file.string());
+  EXPECT_EQ(plain.backend.motion.bundle_adjustment.far_depth_baselines, 0);
+  std::filesystem::remove(file);
 }
 
 }  // namespace
