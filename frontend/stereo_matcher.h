@@ -11,9 +11,10 @@
 // road, railings, a row of windows) has one acceptable match per period, and which one scores
 // best depends on slant and exposure, not on which is true: on KITTI raw 0005 the wrong dash
 // end scored 0.94 against the true one's 0.86. The wrong one puts the point at the depth of
-// another period, consistently along its track (a tracked point searches only near its last
-// disparity), so the static world cannot explain the track and a dashed line became a
-// "moving" object.
+// another period, consistently along its track (a tracked point's match is taken only near its
+// last disparity), so the static world cannot explain the track and a dashed line became a
+// "moving" object. The other periods are therefore looked for over the whole range for tracked
+// points too.
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <opencv2/core/types.hpp>
@@ -33,17 +34,20 @@ struct StereoMatcherOptions {
   int coarse_patch_px = 7;  ///< NCC window of the half-resolution search, px, odd, >= 3
   double max_ambiguity = 0.85;  ///< reject when (1 − best) > max_ambiguity · (1 − second-best
                                 ///< peak NCC) in the coarse search; in (0, 1], 1 = off
-  /// Reject a match when another disparity of the searched range passes min_ncc as well: a
+  /// Reject a match when another disparity of the whole range passes min_ncc as well: a
   /// coarse peak (≥ 2 coarse px from the best, at least min_ncc) whose full-resolution NCC
-  /// around it reaches min_ncc. See the file comment.
+  /// around it reaches min_ncc. With a prior disparity the whole range is still searched for
+  /// such peaks (and for the ratio test's second best); only the best is taken near the
+  /// prior. See the file comment.
   bool unique_match = true;
   int refine_radius_px = 3;     ///< full-resolution NCC search ± around the coarse match, px
   int patch_px = 11;            ///< full-resolution NCC window side, px, odd, >= 3
   double min_ncc = 0.75;        ///< photometric check on the refined match, in [-1, 1]
   double max_row_error_px = 1.0;  ///< |vertical offset| of the match (NCC parabola), px, > 0
   int max_hamming = 80;           ///< ORB distance left point ↔ right match, bits of 256
-  /// With a prior disparity d (a tracked point's last one) only d ± (prior_margin_px +
-  /// prior_margin_ratio · d) is searched: ~±45 % covers a car closing at 15 m/s at 3.5 m.
+  /// With a prior disparity d (a tracked point's last one) the match is taken only within
+  /// d ± (prior_margin_px + prior_margin_ratio · d): ~±45 % covers a car closing at 15 m/s at
+  /// 3.5 m. Without unique_match only that window is searched at all.
   double prior_margin_px = 6;       ///< px, >= 2
   double prior_margin_ratio = 0.3;  ///< fraction of the prior disparity, >= 0
   /// Sub-pixel estimator after the integer NCC peak: "lk" = Gauss-Newton (ESM) alignment of
