@@ -325,11 +325,9 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
               row = static_cast<int>(std::lround(p.y / 2));
     if (!(row - ch >= 0 && row + ch < m.left1.rows && cl - ch >= 0 && cl + ch < m.left1.cols))
       continue;
-    // A tracked point's last disparity narrows where its match can be a frame later. With
-    // unique_match the whole range is still searched for the other matches: a track that
-    // took a repeated pattern's wrong period keeps it while the search is narrowed, because
-    // the true period, outside the window, is never seen (KITTI raw 0005: dashes of a line
-    // across the road, matched to the next dash, whose points then moved like a body).
+    // A tracked point's last disparity narrows where its match can be a frame later; with
+    // unique_match the rest of the range is still scored, so that another period of a
+    // repeated pattern is seen (stereo_matcher.h).
     int lo = d1_min, hi = d1_max;
     if (!prior_disparity.empty() && prior_disparity[i] > 0) {
       const double d = prior_disparity[i];

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "system/pipeline/pipeline_options.h"
+#include "tests/system/kitti_fixtures.h"
 
 namespace cslam {
 namespace {
@@ -57,12 +57,9 @@ TEST(Configs, KittiInputsWithoutAConfigGetTheirShippedSettings) {
 // A user's file that tunes one value changes that value only: the recommended settings of
 // the input kind stay under it (a file used to replace them, and a one-line tweak lost them).
 TEST(Configs, AGivenFileChangesOnlyTheKeysItSetsOverTheRecommendedSettings) {
-  const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / "cslam_configs_test_one_key.yaml";
-  {
-    std::ofstream out(file);
-    out << "frontend:\n  stereo:\n    min_ncc: 0.8\n";
-  }
+  const testing::TempDir tmp("configs_test");
+  const std::filesystem::path file = tmp.path() / "one_key.yaml";
+  testing::WriteText(file, "frontend:\n  stereo:\n    min_ncc: 0.8\n");
   const PipelineOptions recommended = LoadPipelineOptions(Preset::kOutdoor, "", InputKind::kKittiRaw);
   PipelineOptions tuned = LoadPipelineOptions(Preset::kOutdoor, file.string(), InputKind::kKittiRaw);
   EXPECT_DOUBLE_EQ(tuned.frontend.stereo.min_ncc, 0.8);
@@ -77,7 +74,6 @@ TEST(Configs, AGivenFileChangesOnlyTheKeysItSetsOverTheRecommendedSettings) {
   // Without an input kind (or for synthetic input) the file lies over the plain defaults.
   const PipelineOptions plain = LoadPipelineOptions(Preset::kOutdoor, file.string());
   EXPECT_EQ(plain.backend.motion.bundle_adjustment.far_depth_baselines, 0);
-  std::filesystem::remove(file);
 }
 
 }  // namespace
