@@ -8,6 +8,7 @@
 #include "core/logging.h"
 #include "system/map/co_location.h"
 #include "system/map/motion_agreement.h"
+#include "system/map/reappearance.h"
 
 namespace cslam {
 
@@ -43,6 +44,14 @@ void MapStateOptions::Check() const {
               report_min_windows);
   CheckOption(retire_after_frames >= 0, "retire_after_frames", "must be >= 0 (0: never)",
               retire_after_frames);
+  CheckOption(std::isfinite(reappearance_max_gap_s) && reappearance_max_gap_s >= 0,
+              "reappearance_max_gap_s", "must be >= 0 (seconds; 0: off)", reappearance_max_gap_s);
+  CheckOption(std::isfinite(reappearance_max_acceleration_mps2) &&
+                  reappearance_max_acceleration_mps2 >= 0,
+              "reappearance_max_acceleration_mps2", "must be >= 0 (m/s²)",
+              reappearance_max_acceleration_mps2);
+  CheckOption(frame_period_s > 0 && std::isfinite(frame_period_s), "frame_period_s",
+              "must be positive (seconds between frames)", frame_period_s);
   CheckOption(refine_camera_from >= 0, "refine_camera_from", "must be >= 0 (0: off)",
               refine_camera_from);
 }
@@ -67,6 +76,8 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("report_min_frames", &report_min_frames);
   r.Read("report_min_windows", &report_min_windows);
   r.Read("retire_after_frames", &retire_after_frames);
+  r.Read("reappearance_max_gap_s", &reappearance_max_gap_s);
+  r.Read("reappearance_max_acceleration_mps2", &reappearance_max_acceleration_mps2);
 }
 
 MapState::MapState(MapStateOptions options) : options_(options) { options_.Check(); }
@@ -560,7 +571,18 @@ bool MapState::CoLocated(const MapCluster& older, const std::vector<int>& older_
          loc.median_ratio <= options_.co_location_ratio;
 }
 
+std::vector<Eigen::Vector3d> MapState::PointsOf(const std::vector<int>& ids) const {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(ids.size());
+  for (int l : ids) points.push_back(landmarks_.at(l).p_in_cluster);
+  return points;
+}
+
 void MapState::MergeAgreeingClusters(WindowIntegration* info) {
+  ReappearanceGate gate;
+  gate.frame_period_s = options_.frame_period_s;
+  gate.max_gap_s = options_.reappearance_max_gap_s;
+  gate.max_acceleration_mps2 = options_.reappearance_max_acceleration_mps2;
   // Oldest first, so a chain of fragments folds into the oldest id; repeat until nothing
   // merges, since a merge extends the older trajectory over frames it may now share.
   for (bool merged = true; merged;) {
@@ -583,6 +605,7 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
       recent.world_from_cluster.insert(
           horizon > 0 ? whole.lower_bound(whole.rbegin()->first - horizon + 1) : whole.begin(),
           whole.end());
+      std::optional<std::pair<int, Reappearance>> reappeared;  // the nearest old body
       for (const auto& [older, older_ids] : members) {
         if (older >= younger) break;
         const auto o = clusters_.find(older);
@@ -594,7 +617,15 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
                            recent.world_from_cluster, points, world_from_cam_,
                            std::min(options_.motion_min_frames, options_.co_location_min_frames),
                            options_.merge_max_frames);
-        if (agreement.frames == 0) continue;
+        if (agreement.frames == 0) {
+          if (older >= 1) {
+            const Reappearance r = CompareAcrossGap(o->second.world_from_cluster,
+                                                    PointsOf(older_ids), whole, points, gate);
+            if (r.Reachable() && (!reappeared || r.Score() < reappeared->second.Score()))
+              reappeared.emplace(older, r);
+          }
+          continue;
+        }
         const bool rigid = agreement.frames >= options_.motion_min_frames &&
                            agreement.relative_rms() <= options_.motion_tolerance;
         if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, recent, points)))
@@ -606,6 +637,18 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
         info->merged.emplace_back(older, younger);
         merged = true;
         break;
+      }
+      if (!merged && reappeared) {
+        const auto& [older, r] = *reappeared;
+        GetLogger("system")->debug(
+            "map cluster {} merged into {} (back after {} frames: {:.2f} m from where it was "
+            "carried, {:.2f} m reachable of which {:.2f} uncertainty; speed changed by {:.1f} "
+            "m/s, {:.1f} possible of which {:.1f} uncertainty)",
+            younger, older, r.gap_frames, r.distance_m, r.allowed_m, r.uncertainty_m,
+            r.speed_change_mps, r.allowed_speed_change_mps, r.uncertainty_mps);
+        MergeInto(older, younger, r.a_from_b);
+        info->merged.emplace_back(older, younger);
+        merged = true;
       }
       if (merged) break;
     }

@@ -585,12 +585,27 @@ BackendResult RunBackend(const TrackletTable& table, const StereoCamera& camera,
   return RunProgressiveDcs(t, camera, range, options.backend.Effective().motion);
 }
 
+namespace {
+
+// The input's frame period; nullopt without two increasing timestamps.
+std::optional<double> MedianFramePeriod(const std::vector<double>& timestamps) {
+  std::vector<double> steps;
+  for (size_t k = 1; k < timestamps.size(); ++k)
+    if (timestamps[k] > timestamps[k - 1]) steps.push_back(timestamps[k] - timestamps[k - 1]);
+  if (steps.empty()) return std::nullopt;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
+}
+
+}  // namespace
+
 PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
                            const std::atomic<bool>* stop, const ProgressCallback& progress,
                            const BackendFunction& backend) {
   Timer timer;
   PipelineResult out;
   PipelineOptions options = given;
+  if (const auto period = MedianFramePeriod(input.timestamps)) options.map.frame_period_s = *period;
   BundleAdjustmentOptions& ba = options.backend.motion.bundle_adjustment;
   // Threaded online runs keep a CPU for each window; its helpers run on the others. Shared,
   // since the pool (and its hook) lives in the options.

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "tests/system/map/car_points.h"
+
 namespace cslam {
 namespace {
 
@@ -14,14 +16,7 @@ Pose Translation(double x, double y, double z) {
   return p;
 }
 
-// A car-sized box of points (4 × 1.5 × 1.8 m) about its body origin.
-std::vector<Eigen::Vector3d> CarPoints(unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Eigen::Vector3d> p;
-  for (int i = 0; i < 40; ++i) p.emplace_back(0.9 * u(rng), 0.75 * u(rng), 2.0 * u(rng));
-  return p;
-}
+using testing::CarPoints;
 
 // Driving along z at 1 m per frame, `lateral` m to the side and `ahead` m ahead.
 std::map<int, Pose> Drive(int begin, int end, double lateral, double ahead) {

@@ -365,6 +365,72 @@ TEST(MapState, ABodyHandedOverBetweenWindowsInAFewFramesIsMergedByPlace) {
   EXPECT_EQ(ClustersAfterAHandOver(4), 3);  // more shared frames asked for than there are
 }
 
+// Object 1 is hidden from frame 30 to 49 (behind a parked van): the window over 25..54 does
+// not see it, and the one over 50..79 finds it on new tracks, sharing no frame with the map.
+int ClustersAfterAnOcclusion(double reappearance_max_gap_s, std::vector<int>* fresh,
+                             MapState* out) {
+  const World w = MakeWorld(80);
+  MapStateOptions o;
+  o.reappearance_max_gap_s = reappearance_max_gap_s;
+  MapState map(o);
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  MotionEstimate hidden = PerfectWindow(w, {25, 55}, {{1, 1}, {2, 2}});
+  for (size_t l = 0; l < w.label.size(); ++l)
+    if (w.label[l] == 1) hidden.landmark_cluster[l] = -1;
+  std::erase_if(hidden.clusters, [](const ClusterMotion& m) { return m.cluster == 1; });
+  map.Integrate(hidden);
+  MotionEstimate back = PerfectWindow(w, {50, 80}, {{1, 1}, {2, 2}});
+  *fresh = Reidentify(w, 1, &back);
+  map.Integrate(back);
+  *out = map;
+  return static_cast<int>(map.clusters().size());
+}
+
+TEST(MapState, AnObjectBackFromBehindAnOccluderKeepsItsIdAndItsPointsLandWhereTheyAre) {
+  const World w = MakeWorld(80);
+  std::vector<int> fresh;
+  MapState map;
+  ASSERT_EQ(ClustersAfterAnOcclusion(3.0, &fresh, &map), 2);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  const MapCluster& c = map.clusters().at(1);
+  EXPECT_EQ(c.world_from_cluster.begin()->first, 0);
+  EXPECT_EQ(c.world_from_cluster.rbegin()->first, 79);
+  EXPECT_EQ(c.world_from_cluster.count(40), 0u);  // nothing is made up for the hidden frames
+  for (int l : fresh) {
+    const int original = static_cast<int>(l - w.label.size() + 30);  // object 1 = ids 30..44
+    for (int f : {50, 79}) {
+      const auto p = map.WorldPosition(l, f);
+      ASSERT_TRUE(p.has_value());
+      EXPECT_TRUE(testing::MatrixNear(*p, w.world_from_object[0][f] * w.p_in_object[original], 1e-6))
+          << l << " at " << f;
+    }
+    // ... and the old landmarks, carried by the new poses, where they truly are.
+    const auto old = map.WorldPosition(original, 60);
+    ASSERT_TRUE(old.has_value());
+    EXPECT_LT((*old - w.world_from_object[0][60] * w.p_in_object[original]).norm(), 0.05) << original;
+  }
+}
+
+TEST(MapState, AnObjectBackFromBehindAnOccluderIsANewOneWhenReappearanceIsOff) {
+  std::vector<int> fresh;
+  MapState map;
+  EXPECT_EQ(ClustersAfterAnOcclusion(0, &fresh, &map), 3);
+  EXPECT_EQ(map.ClusterOf(fresh[0]), 3);
+}
+
+TEST(MapState, OptionsRejectANegativeReappearanceGapOrAcceleration) {
+  MapStateOptions o;
+  o.reappearance_max_gap_s = -1;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o.reappearance_max_gap_s = 0;
+  EXPECT_NO_THROW(o.Check());
+  o.reappearance_max_acceleration_mps2 = -0.5;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o.reappearance_max_acceleration_mps2 = 3;
+  o.frame_period_s = 0;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
 TEST(MapState, ACompactWindowIntegratesAsTheSameWindowNumberedByMapIds) {
   const World w = MakeWorld(40);
   std::vector<MotionEstimate> by_map_id;
