@@ -17,7 +17,8 @@ struct RenderPoint {
 /// A trajectory to draw: positions in the world frame, oldest first.
 struct RenderTrajectory {
   std::string label;                          ///< legend text
-  std::vector<Eigen::Vector3d> positions;     ///< world frame, metres
+  /// World frame, metres; a non-finite position breaks the line (frames with no pose).
+  std::vector<Eigen::Vector3d> positions;
   int cluster = -1;    ///< -1: the camera (black); otherwise the cluster whose colour to use
   bool dashed = false; ///< ground truth is drawn dashed
 };

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <string>
 
 #include "system/draw/annotate.h"
@@ -140,7 +141,10 @@ int TrajectoryPixelsIn(const std::vector<RenderTrajectory>& trajectories,
     bool first = true;
     Eigen::Vector2d last = Eigen::Vector2d::Zero();
     for (const auto& p : t.positions) {
-      if (!p.allFinite()) continue;
+      if (!p.allFinite()) {  // the line breaks here
+        first = true;
+        continue;
+      }
       const Eigen::Vector2d px = layout.ToPixel(p);
       if (first) {
         count += inside(px);
@@ -250,17 +254,28 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
   for (bool dashed_pass : {true, false}) {
     for (const auto& t : trajectories) {
       if (t.dashed != dashed_pass || t.positions.empty()) continue;
-      std::vector<Eigen::Vector3d> line;
-      line.reserve(t.positions.size());
-      for (const auto& p : t.positions)
-        if (p.allFinite()) line.push_back(to_ss(p));
       const gl::LineStyle style{.rgb = TrajectoryColor(t.cluster),
                                 .width_px = kLineWidthPx * ss,
                                 .dashed = t.dashed,
                                 .dash_px = kDashPx * ss};
-      gl::DrawLineStrip(line, style);
-      if (!t.dashed && !line.empty())
-        gl::DrawPoints({line.front()}, TrajectoryColor(t.cluster), kStartMarkerPx * ss);
+      // One strip per stretch between non-finite positions (frames nothing was seen at).
+      std::vector<Eigen::Vector3d> line;
+      std::optional<Eigen::Vector3d> start;
+      auto flush = [&] {
+        if (!line.empty()) gl::DrawLineStrip(line, style);
+        line.clear();
+      };
+      for (const auto& p : t.positions) {
+        if (!p.allFinite()) {
+          flush();
+          continue;
+        }
+        line.push_back(to_ss(p));
+        if (!start) start = line.back();
+      }
+      flush();
+      if (!t.dashed && start)
+        gl::DrawPoints({*start}, TrajectoryColor(t.cluster), kStartMarkerPx * ss);
     }
   }
   cv::Mat big = context.ReadPixels();

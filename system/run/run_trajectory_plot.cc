@@ -1,6 +1,7 @@
 #include "system/run/run_trajectory_plot.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -9,6 +10,14 @@
 #include "system/render/trajectory_plot.h"
 
 namespace cslam {
+
+namespace {
+
+// A position that breaks a plotted line (RenderTrajectory::positions).
+const Eigen::Vector3d kLineBreak =
+    Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+
+}  // namespace
 
 std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
                                                      const TrajectoryPlotOptions& options) {
@@ -19,7 +28,12 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
     trajs.push_back(gt);
   }
   RenderTrajectory cam{"camera", {}, -1, false};
-  for (const Pose& p : outputs.camera.poses) cam.positions.push_back(p.translation());
+  const Trajectory& camera = outputs.camera;
+  for (size_t k = 0; k < camera.size(); ++k) {
+    if (k > 0 && camera.HasFrames() && camera.frames[k] > camera.frames[k - 1] + 1)
+      cam.positions.push_back(kLineBreak);  // tracking lost: no path was estimated there
+    cam.positions.push_back(camera.poses[k].translation());
+  }
   trajs.push_back(cam);
   // Clusters are plotted when they stay within this distance of the camera's start: the
   // camera's own extent plus a margin for objects seen far ahead.
@@ -27,7 +41,7 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
       cam.positions.empty() ? Eigen::Vector3d::Zero() : cam.positions.front();
   double plot_radius_m = 100.0;
   for (const auto& p : cam.positions)
-    plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
+    if (p.allFinite()) plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
   // Draw each cluster's landmark centroid rather than its frame origin, which can lie
   // anywhere (it is the camera frame at the cluster's first sighting). The landmarks are
   // brought back into their cluster's frame by the pose that placed them in the world
@@ -69,12 +83,18 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
                        {}, id, false};
     const Eigen::Vector3d centroid =
         n > 0 ? Eigen::Vector3d(centroids.at(id).first / n) : Eigen::Vector3d::Zero();
-    for (const Pose& pose : c.poses) t.positions.push_back(pose * centroid);
     // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
     // out of the plot and say so (its trajectory file is still written).
     bool diverged = false;
-    for (const auto& p : t.positions)
+    for (size_t k = 0; k < c.poses.size(); ++k) {
+      const Eigen::Vector3d p = c.poses[k] * centroid;
       diverged |= !p.allFinite() || (p - start).norm() > plot_radius_m;
+      // No line across frames without a pose: the object was out of sight there (behind
+      // another, or lost), and a straight segment would show a path nobody saw.
+      if (k > 0 && c.HasFrames() && c.frames[k] > c.frames[k - 1] + 1)
+        t.positions.push_back(kLineBreak);
+      t.positions.push_back(p);
+    }
     if (diverged) {
       log->warn("render/trajectory.png: cluster {} left out, it strays more than {:.0f} m from "
                 "the camera's path",

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -79,6 +80,22 @@ TEST(TrajectoryPlot, DrawsTheCameraSolidBlackAndGroundTruthDashed) {
   EXPECT_LT(dashed, 0.8);
   // Nothing drawn in the colour of a cluster that is not in the scene.
   EXPECT_EQ(testing::CountColour(image, BgrForCluster(4), 30), 0);
+}
+
+TEST(TrajectoryPlot, ANonFinitePositionBreaksTheLine) {
+  auto scene = Scene();
+  auto& cluster = scene[2].positions;  // from (-5, 10) to (0, 35)
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int k : {24, 25, 26}) cluster[k] = Eigen::Vector3d::Constant(nan);
+  const cv::Mat image = RenderTrajectoryTopView(scene, 800, 600);
+  const TopViewLayout layout = ComputeTopViewLayout(scene, 800, 600);
+  const cv::Vec3b colour = BgrForCluster(1);
+  EXPECT_GT(Coverage(image, layout, cluster[5], cluster[22], colour, 60), 0.98);
+  EXPECT_GT(Coverage(image, layout, cluster[28], cluster[45], colour, 60), 0.98);
+  // Between the last point before the break and the first after (2 m apart): nothing, away
+  // from the pieces' ends.
+  const Eigen::Vector3d a = cluster[23], b = cluster[27];
+  EXPECT_LT(Coverage(image, layout, a + 0.3 * (b - a), a + 0.7 * (b - a), colour, 60), 0.2);
 }
 
 TEST(TrajectoryPlot, LegendOfSixtyClustersStaysInsideThePlot) {

@@ -49,6 +49,25 @@ TEST(RunTrajectoryPlot, GroundTruthDashedThenCameraThenClusters) {
   EXPECT_EQ(lines[2].label, "cluster 2 (0 points, frames 3-9)");
 }
 
+TEST(RunTrajectoryPlot, FramesWithoutAPoseBreakTheLineInsteadOfBridgingIt) {
+  RunOutputs o = Outputs();
+  // The object is out of sight over frames 6..8 (behind a parked van), the camera lost at 5.
+  Trajectory& c = o.clusters.at(2);
+  c.frames = {3, 4, 5, 9};
+  c.poses.resize(4);
+  o.camera.frames.erase(o.camera.frames.begin() + 5);
+  o.camera.poses.erase(o.camera.poses.begin() + 5);
+  const auto lines = RunTrajectoryPlotLines(o, kAll);
+  ASSERT_EQ(lines.size(), 3u);
+  const auto& cam = lines[1].positions;
+  ASSERT_EQ(cam.size(), 10u);  // 9 poses and one break
+  for (size_t k = 0; k < cam.size(); ++k) EXPECT_EQ(cam[k].allFinite(), k != 5) << k;
+  const auto& obj = lines[2].positions;
+  ASSERT_EQ(obj.size(), 5u);
+  for (size_t k = 0; k < obj.size(); ++k) EXPECT_EQ(obj[k].allFinite(), k != 3) << k;
+  EXPECT_EQ(obj[4], c.poses[3].translation());
+}
+
 TEST(RunTrajectoryPlot, ClusterIsDrawnAsItsLandmarksCentroidFromTheirWorldPositions) {
   RunOutputs o = Outputs();
   const Trajectory& c = o.clusters.at(2);
