@@ -562,10 +562,7 @@ bool MapState::CoLocated(const MapCluster& older, const std::vector<int>& older_
                          const MapCluster& younger,
                          const std::vector<Eigen::Vector3d>& younger_points) const {
   if (!(options_.co_location_ratio > 0)) return false;
-  std::vector<Eigen::Vector3d> older_points;
-  older_points.reserve(older_ids.size());
-  for (int l : older_ids) older_points.push_back(landmarks_.at(l).p_in_cluster);
-  const CoLocation loc = CompareLocations(older.world_from_cluster, older_points,
+  const CoLocation loc = CompareLocations(older.world_from_cluster, PointsOf(older_ids),
                                           younger.world_from_cluster, younger_points);
   return loc.frames >= options_.co_location_min_frames &&
          loc.median_ratio <= options_.co_location_ratio;
@@ -597,8 +594,7 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
       if (ids.size() < 3) continue;
       const auto y = clusters_.find(younger);
       if (y == clusters_.end() || y->second.world_from_cluster.empty()) continue;
-      std::vector<Eigen::Vector3d> points;
-      for (int l : ids) points.push_back(landmarks_.at(l).p_in_cluster);
+      const std::vector<Eigen::Vector3d> points = PointsOf(ids);
       MapCluster recent;  // the younger cluster over the merge horizon
       const auto& whole = y->second.world_from_cluster;
       const int horizon = options_.merge_horizon_frames;
@@ -618,7 +614,7 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
                            std::min(options_.motion_min_frames, options_.co_location_min_frames),
                            options_.merge_max_frames);
         if (agreement.frames == 0) {
-          if (older >= 1) {
+          if (older >= 1 && WithinGap(o->second.world_from_cluster, whole, gate)) {
             const Reappearance r = CompareAcrossGap(o->second.world_from_cluster,
                                                     PointsOf(older_ids), whole, points, gate);
             if (r.Reachable() && (!reappeared || r.Score() < reappeared->second.Score()))

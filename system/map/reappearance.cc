@@ -101,17 +101,27 @@ bool Reappearance::Precise() const {
          uncertainty_mps <= allowed_speed_change_mps - uncertainty_mps;
 }
 
+bool WithinGap(const std::map<int, Pose>& world_from_a, const std::map<int, Pose>& world_from_b,
+               const ReappearanceGate& gate) {
+  if (world_from_a.empty() || world_from_b.empty() || !(gate.max_gap_s > 0) ||
+      !(gate.frame_period_s > 0))
+    return false;
+  const int a_last = world_from_a.rbegin()->first, b_first = world_from_b.begin()->first;
+  return b_first > a_last && (b_first - a_last) * gate.frame_period_s <= gate.max_gap_s;
+}
+
 Reappearance CompareAcrossGap(const std::map<int, Pose>& world_from_a,
                               const std::vector<Eigen::Vector3d>& points_in_a,
                               const std::map<int, Pose>& world_from_b,
                               const std::vector<Eigen::Vector3d>& points_in_b,
                               const ReappearanceGate& gate) {
   Reappearance result;
-  if (world_from_a.empty() || world_from_b.empty() || points_in_a.empty() || points_in_b.empty() ||
-      !(gate.max_gap_s > 0) || !(gate.frame_period_s > 0))
+  // b is judged once it has been tracked for compare_frames: a young track's first poses
+  // are too few to say where it is going, and a gate wide enough for them takes anything.
+  if (!WithinGap(world_from_a, world_from_b, gate) || points_in_a.empty() ||
+      points_in_b.empty() || world_from_b.size() < size_t(gate.compare_frames))
     return result;
   const int a_last = world_from_a.rbegin()->first, b_first = world_from_b.begin()->first;
-  if (b_first <= a_last || (b_first - a_last) * gate.frame_period_s > gate.max_gap_s) return result;
 
   const Eigen::Vector3d ca = GeometricMedian(points_in_a), cb = GeometricMedian(points_in_b);
   std::vector<std::pair<int, Eigen::Vector3d>> a_track;
@@ -126,9 +136,6 @@ Reappearance CompareAcrossGap(const std::map<int, Pose>& world_from_a,
   const Eigen::Vector3d turn_per_frame =
       LogSO3(a_end.linear() * a_start.linear().transpose()) / double(a_last - a_track.back().first);
 
-  // b is judged once it has been tracked for compare_frames: a young track's first poses
-  // are too few to say where it is going, and a gate wide enough for them takes anything.
-  if (world_from_b.size() < size_t(gate.compare_frames)) return result;
   std::vector<std::pair<int, Eigen::Vector3d>> b_track;
   std::map<int, Pose> predicted, b_compared;
   for (auto it = world_from_b.begin(); b_track.size() < size_t(gate.compare_frames); ++it) {
@@ -163,8 +170,10 @@ Reappearance CompareAcrossGap(const std::map<int, Pose>& world_from_a,
   // better than a prediction whose error grows with the square of the gap. The pieces are two
   // views of one body, so their centres coincide to within its extent: b's centre is put at
   // a's, turned as a's predicted turn says.
-  result.a_from_b = CompareMotions(predicted, b_compared, points_in_b).a_from_b;
-  result.a_from_b.translation() = ca - result.a_from_b.linear() * cb;
+  if (result.Reachable()) {
+    result.a_from_b = CompareMotions(predicted, b_compared, points_in_b).a_from_b;
+    result.a_from_b.translation() = ca - result.a_from_b.linear() * cb;
+  }
   return result;
 }
 

@@ -34,7 +34,7 @@ struct Reappearance {
   /// from their centres), ½ a t² over the gap and 99 % of the two lines' uncertainties there.
   double allowed_m = 0;
   /// b's frame in a's: b's centre on a's (b's points say where the body is far better than a
-  /// prediction over the gap), turned as a's predicted turn says.
+  /// prediction over the gap), turned as a's predicted turn says. Set only when Reachable().
   Pose a_from_b = Pose::Identity();
   /// |b's velocity over its first frames − a's over its last| (the lines' slopes) and what the
   /// acceleration allows between the middles of the two fits, plus 99 % of their uncertainty.
@@ -53,6 +53,11 @@ struct Reappearance {
   /// compared, Precise() and Score() within the joint bound.
   bool Reachable() const;
 };
+
+/// Whether b starts after a ends, within gate.max_gap_s (false when the test is off): the
+/// cheap part of CompareAcrossGap, for callers to skip gathering points for pairs it refuses.
+bool WithinGap(const std::map<int, Pose>& world_from_a, const std::map<int, Pose>& world_from_b,
+               const ReappearanceGate& gate);
 
 /// Compares a's track, carried on past its last pose, with the first gate.compare_frames poses
 /// of b (which starts after a ends, within gate.max_gap_s). compared == 0 when they overlap in
