@@ -30,6 +30,9 @@ struct RunMetrics {
     std::optional<int> cluster;
     std::optional<int> landmarks;
     std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    /// Own Sim(3) alignment; and the error as the camera sees it, which neither the camera's
+    /// drift nor the ground truth's world enters (system/eval/object_camera_frame_error.h).
+    std::optional<double> ate_sim3_m, camera_frame_rmse_m;
     bool found = false;
 
     bool operator==(const PerObject&) const = default;
@@ -37,6 +40,7 @@ struct RunMetrics {
   /// Object trajectory errors averaged over matched objects, each aligned on its own.
   struct Objects {
     std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
+    std::optional<double> ate_sim3_m, camera_frame_rmse_m;
     std::optional<int> matched, gt;
     /// Objects with at least `eligible_min_landmarks` clusterable landmarks (PerObject::
     /// landmarks), and how many of those were found: the "every object with ≥ 30 tracked
@@ -170,6 +174,8 @@ struct JsonFields<RunMetrics::PerObject> {
       JsonField{"cluster", &S::cluster},
       JsonField{"landmarks", &S::landmarks},
       JsonField{"ate_m", &S::ate_m},
+      JsonField{"ate_sim3_m", &S::ate_sim3_m},
+      JsonField{"camera_frame_rmse_m", &S::camera_frame_rmse_m},
       JsonField{"rpe_frame_t_m", &S::rpe_frame_t_m},
       JsonField{"rpe_frame_r_rad", &S::rpe_frame_r_rad},
       JsonField{"rpe_pairs_t_m", &S::rpe_pairs_t_m},
@@ -183,6 +189,8 @@ struct JsonFields<RunMetrics::Objects> {
   using S = RunMetrics::Objects;
   static constexpr auto kFields = std::tuple{
       JsonField{"ate_m", &S::ate_m},
+      JsonField{"ate_sim3_m", &S::ate_sim3_m},
+      JsonField{"camera_frame_rmse_m", &S::camera_frame_rmse_m},
       JsonField{"rpe_frame_t_m", &S::rpe_frame_t_m},
       JsonField{"rpe_frame_r_rad", &S::rpe_frame_r_rad},
       JsonField{"rpe_pairs_t_m", &S::rpe_pairs_t_m},

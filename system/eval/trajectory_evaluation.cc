@@ -59,6 +59,7 @@ RunMetrics::PerObject EvaluateObjectTrajectory(const Trajectory& gt, const Traje
   RunMetrics::PerObject o;
   o.found = true;
   o.ate_m = Finite(ComputeAte(gt, est, false, association).rmse_m);
+  o.ate_sim3_m = Finite(ComputeAte(gt, est, true, association).rmse_m);
   const RpeResult frame = ComputeRpePerFrame(gt, est, 1, association);
   o.rpe_frame_t_m = Finite(frame.trans_rmse_m);
   o.rpe_frame_r_rad = Finite(frame.rot_rmse_rad);
@@ -71,6 +72,8 @@ RunMetrics::PerObject EvaluateObjectTrajectory(const Trajectory& gt, const Traje
 void SummariseObjects(RunMetrics::Objects& objects, int min_landmarks) {
   using P = RunMetrics::PerObject;
   objects.ate_m = MeanOver(objects.per_object, &P::ate_m);
+  objects.ate_sim3_m = MeanOver(objects.per_object, &P::ate_sim3_m);
+  objects.camera_frame_rmse_m = MeanOver(objects.per_object, &P::camera_frame_rmse_m);
   objects.rpe_frame_t_m = MeanOver(objects.per_object, &P::rpe_frame_t_m);
   objects.rpe_frame_r_rad = MeanOver(objects.per_object, &P::rpe_frame_r_rad);
   objects.rpe_pairs_t_m = MeanOver(objects.per_object, &P::rpe_pairs_t_m);

@@ -16,15 +16,15 @@ std::optional<double> Finite(double v);
 RunMetrics::Camera EvaluateCameraTrajectory(const Trajectory& gt, const Trajectory& est,
                                             const AssociationOptions& association = {});
 
-/// One object's figures: its trajectory aligned on its own (SE(3) ATE), RPE per frame and all
-/// pairs. Sets `found` = true; gt_object, cluster and landmarks are left to the caller.
+/// One object's figures: its trajectory aligned on its own (SE(3) and Sim(3) ATE), RPE per frame
+/// and all pairs; camera_frame_rmse_m is left to the caller, which has the cameras. Sets `found` = true; gt_object, cluster and landmarks are left to the caller.
 RunMetrics::PerObject EvaluateObjectTrajectory(const Trajectory& gt, const Trajectory& est,
                                                const AssociationOptions& association = {});
 
 /// Objects with fewer clusterable landmarks than this are left out of `objects.eligible`.
 inline constexpr int kEligibleObjectLandmarks = 30;
 
-/// Fills the averages of `objects` (ate_m, rpe_*) over its found per_object entries that have
+/// Fills the averages of `objects` (ate_m, ate_sim3_m, camera_frame_rmse_m, rpe_*) over its found per_object entries that have
 /// the figure, `matched` = number found, `gt` = number of entries, `eligible` = entries with
 /// `landmarks` ≥ `min_landmarks` and `found_eligible` = how many of those were found.
 void SummariseObjects(RunMetrics::Objects& objects,

@@ -64,7 +64,20 @@ TEST(TrajectoryEvaluation, ObjectsAverageOverFoundOnes) {
   EXPECT_EQ(objects.matched, 2);
   EXPECT_EQ(objects.gt, 3);
   EXPECT_NEAR(*objects.ate_m, 0.1, 1e-9);
+  EXPECT_LT(*objects.ate_sim3_m, 1e-9);
   EXPECT_LT(*objects.rpe_frame_t_m, 1e-9);
+}
+
+TEST(TrajectoryEvaluation, AnObjectsSim3AteTakesOutAScaleErrorItsSe3AteKeeps) {
+  // A camera whose scale is 4 % off places every object's track 4 % too long as well.
+  const Trajectory gt = Line(60, 0.5);
+  Trajectory est = gt;
+  for (Pose& p : est.poses) p.translation() *= 1.04;
+  const RunMetrics::PerObject o = EvaluateObjectTrajectory(gt, est);
+  ASSERT_TRUE(o.ate_m && o.ate_sim3_m);
+  EXPECT_LT(*o.ate_sim3_m, 1e-9);
+  EXPECT_GT(*o.ate_m, 0.1);
+  EXPECT_FALSE(o.camera_frame_rmse_m.has_value());  // the caller's, who has the cameras
 }
 
 TEST(TrajectoryEvaluation, EligibleObjectsAreThoseWithEnoughLandmarks) {
