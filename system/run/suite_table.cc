@@ -160,6 +160,8 @@ const std::vector<SuiteColumn>& SuiteColumns() {
       {"objects_matched", "objects found", 1, [](const RunMetrics& m) { return Int(m.objects.matched); }},
       {"objects_gt", "objects labelled", 1, [](const RunMetrics& m) { return Int(m.objects.gt); }},
       {"objects_ate_m", "object ATE (m)", 3, [](const RunMetrics& m) { return m.objects.ate_m; }},
+      {"objects_camera_frame_m", "object error, camera frame (m)", 3,
+       [](const RunMetrics& m) { return m.objects.camera_frame_rmse_m; }},
       {"objects_precision", "object precision", 3, [](const RunMetrics& m) { return m.objects.precision; }},
       {"objects_recall", "object recall", 3, [](const RunMetrics& m) { return m.objects.recall; }},
       {"frames_per_s", "frames/s", 2, [](const RunMetrics& m) { return m.timing.hz; }, true},
