@@ -181,6 +181,11 @@ void MapState::ReleaseCluster(int id) {
   clusters_.erase(c);
 }
 
+void MapState::ErasePose(int id, int frame) {
+  if (const auto c = clusters_.find(id); id >= 1 && c != clusters_.end())
+    c->second.world_from_cluster.erase(frame);
+}
+
 void MapState::SetCameraPose(int frame, const Pose& world_from_cam) {
   if (frame >= num_frames()) world_from_cam_.resize(frame + 1);
   world_from_cam_[frame] = world_from_cam;

@@ -171,6 +171,8 @@ class MapState {
   /// Takes moving cluster `id` out of the map: its landmarks become outliers (cluster -1),
   /// kept at their world positions at the cluster's last pose.
   void ReleaseCluster(int id);
+  /// Removes moving cluster `id`'s pose at `frame` (system/map/supported_poses.h).
+  void ErasePose(int id, int frame);
   /// Integrated windows whose frames overlap [first, last].
   int WindowsCovering(int first, int last) const;
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).

@@ -20,6 +20,7 @@
 #include "core/logging.h"
 #include "core/timer.h"
 #include "system/map/object_report.h"
+#include "system/map/supported_poses.h"
 #include "system/map/window_prior.h"
 #include "system/pipeline/estimate_sanity.h"
 #include "system/pipeline/window_scheduler.h"
@@ -634,6 +635,12 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
     out = RunOnlineThreaded(input, options, stop, progress, call, reservation.get());
   }
   out.disparity_offset = calibrator.Record();
+  const SupportedPoses supported =
+      KeepSupportedPoses(&out.map, out.table, options.backend.motion.shape_init.min_points);
+  GetLogger("system")->info("moving clusters: {} poses not observed by {} of their landmarks "
+                            "dropped, {} clusters without any released",
+                            supported.dropped, options.backend.motion.shape_init.min_points,
+                            supported.released);
   const int candidates = static_cast<int>(out.map.clusters().size());
   const int released = KeepReportedObjects(&out.map, options.map);
   GetLogger("system")->info("{} of {} moving clusters reported as objects; the landmarks of the "
