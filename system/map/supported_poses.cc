@@ -22,12 +22,15 @@ SupportedPoses KeepSupportedPoses(MapState* map, const TrackletTable& table, int
   for (const auto& [id, cluster] : map->clusters()) {
     if (id < 1) continue;
     const auto s = steps.find(id);
+    if (s == steps.end()) {  // none of its landmarks is tracked
+      unsupported_clusters.push_back(id);
+      continue;
+    }
     std::vector<int> drop;
-    auto step = s == steps.end() ? std::map<int, int>::const_iterator{} : s->second.cbegin();
+    auto step = s->second.cbegin();
     int seen = 0;
     for (const auto& [frame, pose] : cluster.world_from_cluster) {
-      if (s != steps.end())
-        for (; step != s->second.cend() && step->first <= frame; ++step) seen += step->second;
+      for (; step != s->second.cend() && step->first <= frame; ++step) seen += step->second;
       if (seen < min_points) drop.push_back(frame);
     }
     if (drop.size() == cluster.world_from_cluster.size()) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "core/logging.h"
@@ -43,10 +44,10 @@ Trajectory GroundTruthTrajectory(const std::vector<Pose>& poses, const std::vect
   return t;
 }
 
-std::map<int, Pose> PosesByFrame(const Trajectory& t) {
-  std::map<int, Pose> out;
-  for (size_t k = 0; k < t.size() && k < t.frames.size(); ++k) out[t.frames[k]] = t.poses[k];
-  return out;
+// The map's camera pose at `frame`, or nullopt.
+std::optional<Pose> CameraAt(const MapState& map, int frame) {
+  if (frame < 0 || frame >= map.num_frames()) return std::nullopt;
+  return map.world_from_cam()[frame];
 }
 
 double Median(std::vector<double> v) {
@@ -178,13 +179,12 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result,
       po.cluster = it->second;
       // As on KITTI (below) the point's place on the object is fitted: the alignment above rests
       // on the estimated landmarks, whose depth errors move the origin along with them.
-      const std::map<int, Pose> cameras = PosesByFrame(trajectories.camera);
       std::vector<ObjectInCamera> seen;
       for (size_t k = 0; k < est.size(); ++k) {
         const int f = est.frames[k];
-        const auto cam = cameras.find(f);
-        if (cam == cameras.end() || f >= static_cast<int>(seq.world_from_cam.size())) continue;
-        seen.push_back({cam->second.inverse() * est.poses[k].translation(),
+        const std::optional<Pose> cam = CameraAt(map, f);
+        if (!cam || f >= static_cast<int>(seq.world_from_cam.size())) continue;
+        seen.push_back({cam->inverse() * est.poses[k].translation(),
                         seq.world_from_cam[f].inverse() * seq.world_from_object[obj][f]});
       }
       po.camera_frame_rmse_m = Finite(ObjectErrorInCameraFrame(seen, true).rmse_m);
@@ -248,7 +248,6 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
       for (const auto& [f, p] : BoxCentreTrajectory(input.gt_boxes, *input.gt_world_from_cam, moving[k]))
         box_track[f] = p;
       const Trajectory& track = trajectories.clusters.at(it->second);
-      const std::map<int, Pose> cameras = PosesByFrame(trajectories.camera);
       std::vector<ObjectInCamera> seen;
       Trajectory gt, est;
       for (size_t i = 0; i < track.size(); ++i) {
@@ -265,11 +264,11 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
         gt.timestamps.push_back(track.timestamps[i]);
         // As the camera sees it: the labels are boxes in that frame's camera, so neither the
         // GPS world nor the estimated camera's drift enters.
-        const auto cam = cameras.find(track.frames[i]);
-        if (cam == cameras.end()) continue;
+        const std::optional<Pose> cam = CameraAt(map, track.frames[i]);
+        if (!cam) continue;
         for (const ObjectBox& box : input.gt_boxes[track.frames[i]])
           if (box.track_id == moving[k])
-            seen.push_back({cam->second.inverse() * e.translation(),
+            seen.push_back({cam->inverse() * e.translation(),
                             box.cam_from_box * Eigen::Translation3d(0, 0, box.h / 2)});
       }
       if (gt.size() >= 2) {
