@@ -193,7 +193,7 @@ void MapState::ReframeCluster(int id, const Pose& cluster_from_body) {
   if (id < 1 || c == clusters_.end()) return;
   for (auto& [f, pose] : c->second.world_from_cluster) pose = pose * cluster_from_body;
   for (auto& [f, poses] : c->second.window_poses)
-    for (Pose& pose : poses) pose = pose * cluster_from_body;
+    for (MapCluster::WindowPose& w : poses) w.world_from_cluster = w.world_from_cluster * cluster_from_body;
   const Pose body_from_cluster = cluster_from_body.inverse();
   for (auto& [l, state] : landmarks_)
     if (state.cluster == id) state.p_in_cluster = body_from_cluster * state.p_in_cluster;
@@ -519,12 +519,13 @@ void MapState::IntegrateCluster(const MotionEstimate& window, int label, const s
   ++clusters_[map_id].windows;
   MapCluster& mc = clusters_[map_id];
   const Pose wincluster_from_mapcluster = mapcluster_from_wincluster.inverse();
+  const int source = next_window_source_++;
   for (size_t k = 0; k < motion.frames.size(); ++k) {
     // Keep poses already in the map so the published trajectory never changes under a
     // reader's feet; the window only extends it.
     const Pose pose = map_from_window * motion.world_from_cluster[k] * wincluster_from_mapcluster;
     mc.world_from_cluster.try_emplace(motion.frames[k], pose);
-    mc.window_poses[motion.frames[k]].push_back(pose);
+    mc.window_poses[motion.frames[k]].push_back({source, pose});
   }
   for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * WindowPoint(window, l));
 }
@@ -583,7 +584,8 @@ void MapState::MergeInto(int older, int younger, const Pose& older_from_younger)
     for (const auto& [f, pose] : clusters_[younger].world_from_cluster)
       o.world_from_cluster.try_emplace(f, pose * younger_from_older);
     for (const auto& [f, poses] : clusters_[younger].window_poses)
-      for (const Pose& pose : poses) o.window_poses[f].push_back(pose * younger_from_older);
+      for (const MapCluster::WindowPose& w : poses)
+        o.window_poses[f].push_back({w.source, w.world_from_cluster * younger_from_older});
   }
   clusters_.erase(younger);
 }

@@ -136,10 +136,18 @@ struct MapCluster {
   int id = -1;
   std::map<int, Pose> world_from_cluster;  ///< frame → pose, ascending frames
   int num_landmarks = 0;                   ///< landmarks currently assigned to it
-  /// Every window's estimate of its pose at each frame, in its own frame (the trajectory holds
-  /// the first): the later windows see a frame with more context on both sides, and the
-  /// end-of-run track fuses them (system/map/object_tracks.h).
-  std::map<int, std::vector<Pose>> window_poses;
+  /// One window cluster's estimate of the pose at a frame, in this cluster's frame; `source`
+  /// numbers the window clusters integrated into the map, so two frames of one source come
+  /// from one bundle adjustment.
+  struct WindowPose {
+    int source = -1;
+    Pose world_from_cluster = Pose::Identity();
+  };
+  /// Every window's estimate of its pose at each frame (the trajectory holds the first): the
+  /// later windows see a frame with more context on both sides, and within one window the
+  /// motion between frames is consistent even where the orientation is not; the end-of-run
+  /// track fuses them (system/map/object_tracks.h).
+  std::map<int, std::vector<WindowPose>> window_poses;
   /// Backend windows that found it: window clusters integrated into it, its merged clusters'
   /// included.
   int windows = 0;
@@ -261,6 +269,7 @@ class MapState {
   RetiredStates retired_;
   std::unordered_map<int, std::vector<int>> retired_by_cluster_;  ///< moving clusters only
   int window_last_frame_ = -1;  ///< of the window being integrated
+  int next_window_source_ = 0;  ///< MapCluster::WindowPose::source of the next window cluster
   const std::vector<int>* window_ids_ = nullptr;  ///< its compact numbering, while integrated
   /// A landmark's position in its window cluster, by map id.
   const Eigen::Vector3d& WindowPoint(const MotionEstimate& window, int landmark) const;

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/logging.h"
 
@@ -50,25 +51,41 @@ bool PoseCovariance(const std::vector<Eigen::Vector3d>& body_points, const Pose&
   return true;
 }
 
-// The windows' estimates of one frame fused robustly: the medoid of their positions and the
-// medoid of their rotations (the one nearest all others), so the estimate of a window that
-// flipped the body does not move it.
-Pose Medoid(const std::vector<Pose>& poses) {
-  size_t best_t = 0, best_r = 0;
-  double min_t = INFINITY, min_r = INFINITY;
+// The windows' positions of the body at one frame fused robustly: their medoid (the one
+// nearest all others), so the estimate of a window that misplaced the body does not move it.
+Eigen::Vector3d MedoidPosition(const std::vector<MapCluster::WindowPose>& poses) {
+  size_t best = 0;
+  double min_sum = INFINITY;
   for (size_t i = 0; i < poses.size(); ++i) {
-    double sum_t = 0, sum_r = 0;
-    for (const Pose& other : poses) {
-      sum_t += (poses[i].translation() - other.translation()).norm();
-      sum_r += RotationAngle(poses[i].linear().transpose() * other.linear());
-    }
-    if (sum_t < min_t) min_t = sum_t, best_t = i;
-    if (sum_r < min_r) min_r = sum_r, best_r = i;
+    double sum = 0;
+    for (const MapCluster::WindowPose& other : poses)
+      sum += (poses[i].world_from_cluster.translation() - other.world_from_cluster.translation()).norm();
+    if (sum < min_sum) min_sum = sum, best = i;
   }
-  Pose p = Pose::Identity();
-  p.linear() = poses[best_r].linear();
-  p.translation() = poses[best_t].translation();
-  return p;
+  return poses[best].world_from_cluster.translation();
+}
+
+// The body's turn from frame a to frame b (world, left): the medoid of the turns of the window
+// clusters that placed it at both. Within one bundle adjustment a far body's motion is
+// consistent even where its orientation is not (a 40 m car's heading differed by up to 180°
+// between windows that agreed on its turn), and the turn does not depend on the frame a window
+// was aligned to the map in. None when no window saw both.
+std::optional<Eigen::Matrix3d> MedoidTurn(const std::vector<MapCluster::WindowPose>& a,
+                                          const std::vector<MapCluster::WindowPose>& b) {
+  std::vector<Eigen::Matrix3d> turns;
+  for (const MapCluster::WindowPose& pa : a)
+    for (const MapCluster::WindowPose& pb : b)
+      if (pa.source == pb.source)
+        turns.push_back(pb.world_from_cluster.linear() * pa.world_from_cluster.linear().transpose());
+  if (turns.empty()) return std::nullopt;
+  size_t best = 0;
+  double min_sum = INFINITY;
+  for (size_t i = 0; i < turns.size(); ++i) {
+    double sum = 0;
+    for (const Eigen::Matrix3d& other : turns) sum += RotationAngle(turns[i].transpose() * other);
+    if (sum < min_sum) min_sum = sum, best = i;
+  }
+  return turns[best];
 }
 
 }  // namespace
@@ -129,9 +146,20 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
       TrackMeasurement meas;
       meas.frame = f;
       meas.time_s = time_of(f);
+      // The position from the windows' places of the body at f; the rotation chained from
+      // the first frame (the world's axes) by the windows' turns between measured frames.
       const auto window = cluster_now.window_poses.find(f);
-      meas.world_from_body =
-          window == cluster_now.window_poses.end() || window->second.empty() ? pose : Medoid(window->second);
+      const bool windowed = window != cluster_now.window_poses.end() && !window->second.empty();
+      meas.world_from_body.translation() = windowed ? MedoidPosition(window->second) : pose.translation();
+      if (measurements.empty()) {
+        meas.world_from_body.linear() = pose.linear();
+      } else {
+        const auto before = cluster_now.window_poses.find(measurements.back().frame);
+        if (windowed && before != cluster_now.window_poses.end())
+          meas.turn = MedoidTurn(before->second, window->second);
+        meas.world_from_body.linear() =
+            meas.turn.value_or(Eigen::Matrix3d::Identity()) * measurements.back().world_from_body.linear();
+      }
       if (!PoseCovariance(points, meas.world_from_body, *map->world_from_cam()[f], camera, pixel_cov,
                           &meas.rotation_cov, &meas.position_cov))
         continue;

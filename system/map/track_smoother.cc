@@ -37,6 +37,8 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 // The two spaces a track lives in: positions, and rotations perturbed on the left (world).
 struct PositionSpace {
   using X = Eigen::Vector3d;
+  using Z = X;  // what is measured: the position
+  static constexpr bool kOnVelocity = false;
   static X Plus(const X& x, const Eigen::Vector3d& d) { return x + d; }
   static Eigen::Vector3d Minus(const X& a, const X& b) { return a - b; }
   static constexpr double kInitialSigma = 1e3;          // m: the first measurement decides
@@ -44,10 +46,19 @@ struct PositionSpace {
 };
 struct RotationSpace {
   using X = Eigen::Matrix3d;
+  using Z = X;  // what is measured: the rotation
+  static constexpr bool kOnVelocity = false;
   static X Plus(const X& x, const Eigen::Vector3d& d) { return ExpSO3(d) * x; }
   static Eigen::Vector3d Minus(const X& a, const X& b) { return LogSO3(a * b.transpose()); }
   static constexpr double kInitialSigma = M_PI;
   static constexpr double kInitialVelocitySigma = 1.0;  // rad/s: a tight turn's yaw rate
+};
+// Rotations whose measurements are turn rates: the orientation starts at the first
+// measurement's (the body frame's axes, exactly) and follows the integrated angular velocity.
+struct TurnRateSpace : RotationSpace {
+  using Z = Eigen::Vector3d;  // rad/s, world
+  static constexpr bool kOnVelocity = true;
+  static constexpr double kInitialSigma = 0;
 };
 
 // One stretch of consecutive frames; measured[k] < 0 where frame k has no measurement.
@@ -91,7 +102,8 @@ Matrix6d ProcessNoise(double dt, double q) {
 // Kalman filter forward, Rauch–Tung–Striebel backward over one stretch. z[k] / cov[k] are the
 // measurement at frame k (cov already divided by its weight); use[k] false skips it.
 template <typename S>
-Smoothed<S> FilterAndSmooth(const Stretch& s, const std::vector<typename S::X>& z,
+Smoothed<S> FilterAndSmooth(const Stretch& s, const typename S::X& x0,
+                            const std::vector<typename S::Z>& z,
                             const std::vector<Eigen::Matrix3d>& cov, const std::vector<bool>& use,
                             const Model& model) {
   const size_t n = s.frames.size();
@@ -100,7 +112,7 @@ Smoothed<S> FilterAndSmooth(const Stretch& s, const std::vector<typename S::X>& 
   std::vector<Matrix6d> P_pred(n), P_filt(n);
   for (size_t k = 0; k < n; ++k) {
     if (k == 0) {
-      x_pred[0] = z[0];  // a stretch starts at a measured frame
+      x_pred[0] = x0;
       v_pred[0].setZero();
       P_pred[0].setZero();
       P_pred[0].topLeftCorner<3, 3>() = std::pow(S::kInitialSigma, 2) * Eigen::Matrix3d::Identity();
@@ -117,15 +129,21 @@ Smoothed<S> FilterAndSmooth(const Stretch& s, const std::vector<typename S::X>& 
     v_filt[k] = v_pred[k];
     P_filt[k] = P_pred[k];
     if (!use[k]) continue;
-    const Eigen::Vector3d y = S::Minus(z[k], x_pred[k]);
-    const Eigen::Matrix3d innovation = P_pred[k].topLeftCorner<3, 3>() + cov[k];
+    // H selects the measured half of the state: the position/rotation or the velocity.
+    constexpr int h = S::kOnVelocity ? 3 : 0;
+    Eigen::Vector3d y;
+    if constexpr (S::kOnVelocity)
+      y = z[k] - v_pred[k];
+    else
+      y = S::Minus(z[k], x_pred[k]);
+    const Eigen::Matrix3d innovation = P_pred[k].template block<3, 3>(h, h) + cov[k];
     const Eigen::Matrix<double, 6, 3> K =
-        P_pred[k].leftCols<3>() * innovation.ldlt().solve(Eigen::Matrix3d::Identity());
+        P_pred[k].template middleCols<3>(h) * innovation.ldlt().solve(Eigen::Matrix3d::Identity());
     const Vector6d d = K * y;
     x_filt[k] = S::Plus(x_pred[k], d.head<3>());
     v_filt[k] = v_pred[k] + d.tail<3>();
     Matrix6d IKH = Matrix6d::Identity();
-    IKH.leftCols<3>() -= K;
+    IKH.template middleCols<3>(h) -= K;
     P_filt[k] = IKH * P_pred[k] * IKH.transpose() + K * cov[k] * K.transpose();  // Joseph form
   }
   Smoothed<S> out{x_filt, v_filt, P_filt};
@@ -148,21 +166,26 @@ Smoothed<S> FilterAndSmooth(const Stretch& s, const std::vector<typename S::X>& 
 // the covariance scale read off the residuals.
 template <typename S>
 struct RobustState {
-  std::vector<typename S::X> z;        // per frame of the stretch (gaps: a neighbour's)
+  typename S::X x0;                    // the state at the stretch's first frame, to start from
+  std::vector<typename S::Z> z;        // per frame of the stretch (gaps: a neighbour's)
   std::vector<double> weight, d2;      // per frame
   double scale = 1;
   Smoothed<S> fit;
 };
 
 template <typename S>
-void InitRobust(const Stretch& s, const std::vector<typename S::X>& z_all, RobustState<S>* r) {
+void InitRobust(const Stretch& s, const typename S::X& x0, const std::vector<typename S::Z>& z_all,
+                RobustState<S>* r) {
   const size_t n = s.frames.size();
+  r->x0 = x0;
   r->z.resize(n);
   for (size_t k = 0; k < n; ++k) {
     const int m = s.measured[k];
     r->z[k] = m >= 0 ? z_all[m] : r->z[k - 1];  // a stretch starts at a measured frame
   }
   r->weight.assign(n, 1.0);
+  // A turn rate is measured between two frames: the stretch's first has none.
+  if constexpr (S::kOnVelocity) r->weight[0] = 0;
   r->d2.assign(n, 0.0);
 }
 
@@ -179,7 +202,7 @@ void RobustPass(const Stretch& s, const std::vector<Eigen::Matrix3d>& cov_all, c
     use[k] = m >= 0 && r->weight[k] > 0;
     if (use[k]) cov[k] = cov_all[m] * (r->scale / r->weight[k]);
   }
-  r->fit = FilterAndSmooth<S>(s, r->z, cov, use, model);
+  r->fit = FilterAndSmooth<S>(s, r->x0, r->z, cov, use, model);
   if (pass == options.passes + 1) {  // the gated fit is the result
     for (size_t k = 0; k < n; ++k) r->weight[k] = use[k] ? 1.0 : 0.0;
     return;
@@ -187,22 +210,26 @@ void RobustPass(const Stretch& s, const std::vector<Eigen::Matrix3d>& cov_all, c
   std::vector<double> measured_d2;
   for (size_t k = 0; k < n; ++k) {
     const int m = s.measured[k];
-    if (m < 0) continue;
-    const Eigen::Vector3d e = S::Minus(r->z[k], r->fit.x[k]);
+    if (m < 0 || (S::kOnVelocity && k == 0)) continue;
+    Eigen::Vector3d e;
+    if constexpr (S::kOnVelocity)
+      e = r->z[k] - r->fit.v[k];
+    else
+      e = S::Minus(r->z[k], r->fit.x[k]);
     r->d2[k] = e.dot(cov_all[m].ldlt().solve(e));
     measured_d2.push_back(r->d2[k]);
   }
   // The scale is read off a fit the kernel has already made robust (pass ≥ 1): the first,
   // unweighted fit is pulled towards every outlier, and its residuals would inflate it.
   constexpr double kChi2Median3 = 2.366;  // median of χ² with 3 degrees of freedom
-  if (pass >= 1 && pass < options.passes) {
+  if (pass >= 1 && pass < options.passes && !measured_d2.empty()) {
     std::nth_element(measured_d2.begin(), measured_d2.begin() + measured_d2.size() / 2,
                      measured_d2.end());
     r->scale = std::max(1.0, measured_d2[measured_d2.size() / 2] / kChi2Median3);
   }
   const double c2 = options.gate_chi2 / 2;
   for (size_t k = 0; k < n; ++k) {
-    if (s.measured[k] < 0) continue;
+    if (s.measured[k] < 0 || (S::kOnVelocity && k == 0)) continue;
     const double d2s = r->d2[k] / r->scale;
     r->weight[k] = pass < options.passes ? 1.0 / (1.0 + d2s / c2) : (d2s <= options.gate_chi2 ? 1.0 : 0.0);
   }
@@ -256,83 +283,129 @@ std::vector<Stretch> Stretches(const std::vector<TrackMeasurement>& m, double fr
   return out;
 }
 
+// What SmoothTrack shares with one stretch's passes.
+struct TrackInputs {
+  const std::vector<TrackMeasurement>& measurements;
+  const TrackSmootherOptions& options;
+  const MeasurementCovariance& covariance;
+  Model position_model, rotation_model;
+  std::vector<Eigen::Vector3d> positions, turn_rates;
+  std::vector<Eigen::Matrix3d> rotations;
+  std::vector<Eigen::Matrix3d> position_covs, rotation_covs, turn_rate_covs;
+  std::vector<Pose> where;  // where each measurement's covariance is evaluated
+  std::vector<bool> position_ok, rotation_ok;
+};
+
+// The measurements' covariances at `in->where`; a turn rate's from its two ends' rotations.
+void UpdateCovariances(TrackInputs* in) {
+  // A floor keeps every covariance invertible (a measurement of three collinear points has
+  // no information about the roll around their line).
+  const Eigen::Matrix3d floor = 1e-10 * Eigen::Matrix3d::Identity();
+  const auto& m = in->measurements;
+  for (size_t i = 0; i < m.size(); ++i) {
+    Eigen::Matrix3d r = m[i].rotation_cov, p = m[i].position_cov;
+    if (in->covariance) in->covariance(m[i].frame, in->where[i], &r, &p);
+    in->rotation_covs[i] = r + floor;
+    in->position_covs[i] = p + floor;
+  }
+  for (size_t i = 1; i < m.size(); ++i) {
+    const double dt = std::max(m[i].time_s - m[i - 1].time_s, 1e-6);
+    in->turn_rate_covs[i] = (in->rotation_covs[i] + in->rotation_covs[i - 1]) / (dt * dt);
+  }
+}
+
+template <typename R>
+void SmoothStretch(const Stretch& s, TrackInputs* in, SmoothedTrack* track) {
+  const TrackSmootherOptions& options = in->options;
+  RobustState<PositionSpace> p;
+  RobustState<R> r;
+  InitRobust(s, in->positions[s.measured[0]], in->positions, &p);
+  const std::vector<Eigen::Matrix3d>* rotation_covs = &in->rotation_covs;
+  if constexpr (R::kOnVelocity) {
+    InitRobust(s, in->rotations[s.measured[0]], in->turn_rates, &r);
+    rotation_covs = &in->turn_rate_covs;
+    for (size_t k = 1; k < s.frames.size(); ++k)  // frames whose turn no window measured
+      if (s.measured[k] >= 0 && !in->measurements[s.measured[k]].turn) r.weight[k] = 0;
+  } else {
+    InitRobust(s, in->rotations[s.measured[0]], in->rotations, &r);
+  }
+  for (int pass = 0; pass <= options.passes + 1; ++pass) {
+    RobustPass(s, in->position_covs, in->position_model, options, pass, &p);
+    RobustPass(s, *rotation_covs, in->rotation_model, options, pass, &r);
+    if (!in->covariance || pass == options.passes + 1) continue;
+    // A measurement's covariance follows from where the body is, not from where that
+    // measurement says it is: a pose flipped towards the camera would claim the precision of
+    // a near object.
+    for (size_t k = 0; k < s.frames.size(); ++k) {
+      const int m = s.measured[k];
+      if (m < 0) continue;
+      in->where[m].linear() = r.fit.x[k];
+      in->where[m].translation() = p.fit.x[k];
+    }
+    UpdateCovariances(in);
+  }
+  for (size_t k = 0; k < s.frames.size(); ++k) {
+    TrackState state;
+    state.frame = s.frames[k];
+    state.time_s = s.times[k];
+    state.world_from_body.linear() = r.fit.x[k];
+    state.world_from_body.translation() = p.fit.x[k];
+    state.velocity = p.fit.v[k];
+    state.angular_velocity = r.fit.v[k];
+    state.position_cov = p.fit.P[k].template topLeftCorner<3, 3>();
+    state.rotation_cov = r.fit.P[k].template topLeftCorner<3, 3>();
+    const int m = s.measured[k];
+    if (m >= 0) {
+      in->position_ok[m] = p.weight[k] > 0;
+      // A turn rate left unused for want of a measurement is no refusal.
+      in->rotation_ok[m] = r.weight[k] > 0 || (R::kOnVelocity && (k == 0 || !in->measurements[m].turn));
+    }
+    state.measured = m >= 0 && in->position_ok[m] && in->rotation_ok[m];
+    track->states.push_back(state);
+  }
+  track->position_scale = std::max(track->position_scale, p.scale);
+  track->rotation_scale = std::max(track->rotation_scale, r.scale);
+}
+
 }  // namespace
 
 SmoothedTrack SmoothTrack(const std::vector<TrackMeasurement>& measurements, double frame_period_s,
                           const TrackSmootherOptions& options, const MeasurementCovariance& covariance) {
   SmoothedTrack track;
   const size_t n = measurements.size();
-  std::vector<Eigen::Vector3d> positions;
-  std::vector<Eigen::Matrix3d> rotations;
-  for (const TrackMeasurement& m : measurements) {
-    positions.push_back(m.world_from_body.translation());
-    rotations.push_back(m.world_from_body.linear());
-  }
-  // A floor keeps every covariance invertible (a measurement of three collinear points has
-  // no information about the roll around their line).
-  const Eigen::Matrix3d floor = 1e-10 * Eigen::Matrix3d::Identity();
-  std::vector<Eigen::Matrix3d> position_covs(n), rotation_covs(n);
-  std::vector<Pose> where = covariance ? LocalMedoids(measurements, 5) : std::vector<Pose>{};
-  const auto update_covariances = [&] {
-    for (size_t i = 0; i < n; ++i) {
-      const TrackMeasurement& m = measurements[i];
-      Eigen::Matrix3d r = m.rotation_cov, p = m.position_cov;
-      if (covariance) covariance(m.frame, where[i], &r, &p);
-      rotation_covs[i] = r + floor;
-      position_covs[i] = p + floor;
-    }
-  };
-  update_covariances();
-  const Model position_model{std::pow(options.acceleration_mps2, 2), INFINITY};
+  TrackInputs in{measurements, options, covariance, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  in.position_model = {std::pow(options.acceleration_mps2, 2), INFINITY};
   // An Ornstein–Uhlenbeck angular velocity: stationary σ² = q τ / 2.
-  const Model rotation_model{
-      2 * std::pow(options.angular_rate_sigma_radps, 2) / options.angular_rate_time_s,
-      options.angular_rate_time_s};
-  std::vector<bool> position_ok(n), rotation_ok(n);
+  in.rotation_model = {2 * std::pow(options.angular_rate_sigma_radps, 2) / options.angular_rate_time_s,
+                       options.angular_rate_time_s};
+  bool turns = false;
+  for (size_t i = 0; i < n; ++i) {
+    const TrackMeasurement& m = measurements[i];
+    in.positions.push_back(m.world_from_body.translation());
+    in.rotations.push_back(m.world_from_body.linear());
+    Eigen::Vector3d rate = Eigen::Vector3d::Zero();
+    if (i > 0 && m.turn) {
+      rate = LogSO3(*m.turn) / std::max(m.time_s - measurements[i - 1].time_s, 1e-6);
+      turns = true;
+    }
+    in.turn_rates.push_back(rate);
+  }
+  in.position_covs.resize(n);
+  in.rotation_covs.resize(n);
+  in.turn_rate_covs.assign(n, Eigen::Matrix3d::Identity());
+  in.where = covariance ? LocalMedoids(measurements, 5) : std::vector<Pose>{};
+  in.position_ok.assign(n, false);
+  in.rotation_ok.assign(n, false);
+  UpdateCovariances(&in);
   for (const Stretch& s : Stretches(measurements, frame_period_s, options.max_gap_s)) {
-    RobustState<PositionSpace> p;
-    RobustState<RotationSpace> r;
-    InitRobust(s, positions, &p);
-    InitRobust(s, rotations, &r);
-    for (int pass = 0; pass <= options.passes + 1; ++pass) {
-      RobustPass(s, position_covs, position_model, options, pass, &p);
-      RobustPass(s, rotation_covs, rotation_model, options, pass, &r);
-      if (!covariance || pass == options.passes + 1) continue;
-      // A measurement's covariance follows from where the body is, not from where that
-      // measurement says it is: a pose flipped towards the camera would claim the precision of
-      // a near object.
-      for (size_t k = 0; k < s.frames.size(); ++k) {
-        const int m = s.measured[k];
-        if (m < 0) continue;
-        where[m].linear() = r.fit.x[k];
-        where[m].translation() = p.fit.x[k];
-      }
-      update_covariances();
-    }
-    for (size_t k = 0; k < s.frames.size(); ++k) {
-      TrackState state;
-      state.frame = s.frames[k];
-      state.time_s = s.times[k];
-      state.world_from_body.linear() = r.fit.x[k];
-      state.world_from_body.translation() = p.fit.x[k];
-      state.velocity = p.fit.v[k];
-      state.angular_velocity = r.fit.v[k];
-      state.position_cov = p.fit.P[k].topLeftCorner<3, 3>();
-      state.rotation_cov = r.fit.P[k].topLeftCorner<3, 3>();
-      const int m = s.measured[k];
-      if (m >= 0) {
-        position_ok[m] = p.weight[k] > 0;
-        rotation_ok[m] = r.weight[k] > 0;
-      }
-      state.measured = m >= 0 && position_ok[m] && rotation_ok[m];
-      track.states.push_back(state);
-    }
-    track.position_scale = std::max(track.position_scale, p.scale);
-    track.rotation_scale = std::max(track.rotation_scale, r.scale);
+    if (turns)
+      SmoothStretch<TurnRateSpace>(s, &in, &track);
+    else
+      SmoothStretch<RotationSpace>(s, &in, &track);
   }
   for (size_t i = 0; i < n; ++i) {
-    track.rejected_positions += !position_ok[i];
-    track.rejected_rotations += !rotation_ok[i];
+    track.rejected_positions += !in.position_ok[i];
+    track.rejected_rotations += !in.rotation_ok[i];
   }
   return track;
 }

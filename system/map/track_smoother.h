@@ -9,6 +9,7 @@
 // passes and finally rejected by a χ² gate, so noise does not make the track.
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "core/options_reader.h"
@@ -51,6 +52,12 @@ struct TrackMeasurement {
   Pose world_from_body = Pose::Identity();
   Eigen::Matrix3d rotation_cov = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d position_cov = Eigen::Matrix3d::Identity();
+  /// The body's turn since the previous measurement (world, left), where it was measured
+  /// apart from the orientation: a far body's windows agree on how it turns long before they
+  /// agree on where it points. When any measurement has one, the rotation is smoothed from
+  /// these turn rates, starting at each stretch's first orientation; the orientations are not
+  /// used after it.
+  std::optional<Eigen::Matrix3d> turn;
 };
 
 /// The smoothed body at one frame.

@@ -83,7 +83,9 @@ TEST(ObjectTracks, FlippedWindowPosesGiveWayToATrackTheCarCouldDrive) {
   ASSERT_EQ(tracks.count(1), 1u);
   const ObjectTrack& track = tracks.at(1);
   EXPECT_EQ(track.measurements, 40);
-  EXPECT_EQ(track.rejected_rotations, 8);  // frames 3, 8, …, 38
+  // The window's turns into and out of each flipped frame (2→3 and 3→4, …) are refused, and
+  // each flipped frame's position.
+  EXPECT_EQ(track.rejected_rotations, 16);
   EXPECT_EQ(track.rejected_positions, 8);
   const MapCluster& car = s.map.clusters().at(1);
   ASSERT_EQ(car.world_from_cluster.size(), 40u);
@@ -93,7 +95,8 @@ TEST(ObjectTracks, FlippedWindowPosesGiveWayToATrackTheCarCouldDrive) {
   }
   EXPECT_NEAR(track.states[20].velocity.z(), 10, 0.1);
   EXPECT_FALSE(track.states[3].measured);
-  EXPECT_TRUE(track.states[4].measured);
+  EXPECT_FALSE(track.states[4].measured);  // its turn from frame 3 was refused
+  EXPECT_TRUE(track.states[5].measured);
 }
 
 }  // namespace
