@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/rigid.h"
@@ -58,6 +59,9 @@ class StereoSource {
   virtual std::vector<std::vector<ObjectBox>> ObjectBoxes() const { return {}; }
   /// The ground truth's cross-check, when the dataset has one (KITTI raw with OXTS).
   virtual std::optional<GroundTruthCrossCheck> CrossCheck() const { return std::nullopt; }
+  /// Files (name, text) a run writes into its output folder to say how it understood the
+  /// input, e.g. a user's rig: rig.yaml and rectified.yaml. Empty for the KITTI readers.
+  virtual std::vector<std::pair<std::string, std::string>> DescriptionFiles() const { return {}; }
 };
 
 }  // namespace cslam

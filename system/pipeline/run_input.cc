@@ -21,6 +21,8 @@ void InputOptions::Load(OptionsReader& r) {
   r.Read("color", &color);
   r.Read("max_frames", &max_frames);
   r.Read("use_images", &use_images);
+  r.Read("calib", &calib);
+  r.Read("gt", &gt);
 }
 
 namespace {
@@ -46,6 +48,9 @@ class TruncatedSource : public StereoSource {
     auto boxes = inner_->ObjectBoxes();
     if (static_cast<int>(boxes.size()) > n_) boxes.resize(n_);
     return boxes;
+  }
+  std::vector<std::pair<std::string, std::string>> DescriptionFiles() const override {
+    return inner_->DescriptionFiles();
   }
   std::optional<GroundTruthCrossCheck> CrossCheck() const override {
     auto check = inner_->CrossCheck();
@@ -102,7 +107,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
     in.synthetic = std::move(seq);
     return in;
   }
-  std::unique_ptr<StereoSource> src = OpenStereoSource(path, options.color);
+  std::unique_ptr<StereoSource> src = OpenStereoSource(path, {options.color, options.calib, options.gt});
   if (options.max_frames > 0 && options.max_frames < src->size())
     src = std::make_unique<TruncatedSource>(std::move(src), options.max_frames);
   if (src->size() == 0) throw InputError(path, "contains no stereo frames");
@@ -113,6 +118,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
   in.gt_world_from_cam = src->GroundTruth();
   in.gt_boxes = src->ObjectBoxes();
   in.gt_cross_check = src->CrossCheck();
+  in.description_files = src->DescriptionFiles();
   in.images = std::move(src);
   return in;
 }
