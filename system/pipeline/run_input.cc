@@ -21,8 +21,6 @@ void InputOptions::Load(OptionsReader& r) {
   r.Read("color", &color);
   r.Read("max_frames", &max_frames);
   r.Read("use_images", &use_images);
-  r.Read("calib", &calib);
-  r.Read("gt", &gt);
 }
 
 namespace {

@@ -60,6 +60,8 @@ struct InputOptions {
   bool color = false;     ///< KITTI raw: use the colour pair image_02/03 (converted to grey)
   int max_frames = 0;     ///< 0 = all; otherwise only the first max_frames
   bool use_images = true; ///< synthetic with images: false replays the stored tracklets instead
+  // A rig's files come from the command line only (not config keys: a configuration is
+  // meant to be reused across inputs).
   std::string calib;      ///< a rig's calibration file (--calib; required for a plain folder)
   std::string gt;         ///< a rig's TUM-format ground truth (--gt)
   void Check() const;
