@@ -60,6 +60,14 @@ double ScalarNumber(const CalibrationYaml& y, const YAML::Node& node, const std:
   y.Fail(node, key, "expected a finite number, got '" + s + "'");
 }
 
+// A count or size read as a double, printed without converting it to int (out of range: UB).
+std::string Count(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
 }  // namespace
 
 YAML::Node CalibrationYaml::Map(const YAML::Node& parent, const std::string& key) const {
@@ -98,7 +106,7 @@ std::vector<double> CalibrationYaml::Numbers(const YAML::Node& parent, const std
   if (n.IsMap()) {
     const double rows = Number(n, "rows"), cols = Number(n, "cols");
     if (rows * cols != static_cast<double>(v.size()))
-      Fail(n, key, "expected rows x cols = " + std::to_string(static_cast<int>(rows * cols)) +
+      Fail(n, key, "expected rows x cols = " + Count(rows * cols) +
                        " numbers in data, got " + std::to_string(v.size()));
   }
   if (count >= 0 && static_cast<int>(v.size()) != count)
@@ -113,7 +121,7 @@ Eigen::MatrixXd CalibrationYaml::Matrix(const YAML::Node& parent, const std::str
     const double r = Number(n, "rows"), c = Number(n, "cols");
     if (r != rows || c != cols)
       Fail(n, key, "expected a " + std::to_string(rows) + "x" + std::to_string(cols) + " matrix, got " +
-                       std::to_string(static_cast<int>(r)) + "x" + std::to_string(static_cast<int>(c)));
+                       Count(r) + "x" + Count(c));
   }
   const std::vector<double> v = Numbers(parent, key, rows * cols);
   Eigen::MatrixXd m(rows, cols);

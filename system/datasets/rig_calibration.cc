@@ -48,11 +48,23 @@ LensModel ParseLens(const CalibrationYaml& y, const YAML::Node& parent, const st
                                "'; expected radtan (radial-tangential), equidistant (fisheye) or none");
 }
 
+// A side of the image in pixels, checked before the conversion (a double beyond int's range
+// converted to int is undefined behaviour).
+int ImageSide(const CalibrationYaml& y, const YAML::Node& node, const std::string& key, double v) {
+  if (!(v >= 1 && v <= 20000) || v != static_cast<double>(static_cast<long>(v)))
+    y.Fail(node, key, "expected a whole number of pixels in 1-20000, got " + std::to_string(v));
+  return static_cast<int>(v);
+}
+
+int ImageSide(const CalibrationYaml& y, const YAML::Node& parent, const std::string& key) {
+  return ImageSide(y, parent[key], key, y.Number(parent, key));
+}
+
 void ReadSize(const CalibrationYaml& y, const YAML::Node& parent, const std::string& key,
               CameraIntrinsics* cam) {
   const std::vector<double> r = y.Numbers(parent, key, 2);
-  cam->width = static_cast<int>(r[0]);
-  cam->height = static_cast<int>(r[1]);
+  cam->width = ImageSide(y, parent[key], key, r[0]);
+  cam->height = ImageSide(y, parent[key], key, r[1]);
 }
 
 void ReadPinhole(const CalibrationYaml& y, const YAML::Node& parent, CameraIntrinsics* cam) {
@@ -115,8 +127,8 @@ StereoRig ReadOpenCvStereoCalibration(const std::string& path) {
   StereoRig rig = NewRig(path, "opencv");
   LensModel lens = LensModel::kRadialTangential;
   if (CalibrationYaml::Has(r, "distortion_model")) lens = ParseLens(y, r, "distortion_model");
-  const int width = static_cast<int>(y.Number(r, "image_width"));
-  const int height = static_cast<int>(y.Number(r, "image_height"));
+  const int width = ImageSide(y, r, "image_width");
+  const int height = ImageSide(y, r, "image_height");
   const auto camera = [&](const std::string& m, const std::string& d) {
     const Eigen::Matrix3d k = y.Matrix(r, m, 3, 3);
     if (k(0, 1) != 0.0 || k(1, 0) != 0.0 || k(2, 0) != 0.0 || k(2, 1) != 0.0 || k(2, 2) != 1.0)
@@ -178,8 +190,8 @@ StereoRig ReadOrbSlam3Settings(const std::string& path) {
   const YAML::Node& r = y.root();
   StereoRig rig = NewRig(path, "orbslam3");
   const LensModel lens = ParseLens(y, r, "Camera.type");
-  const int width = static_cast<int>(y.Number(r, "Camera.width"));
-  const int height = static_cast<int>(y.Number(r, "Camera.height"));
+  const int width = ImageSide(y, r, "Camera.width");
+  const int height = ImageSide(y, r, "Camera.height");
   const auto camera = [&](const std::string& c) {
     CameraIntrinsics cam;
     cam.fx = y.Number(r, c + ".fx");

@@ -57,6 +57,18 @@ void RectificationOptions::Check() const {
 
 StereoRectifier::StereoRectifier(const StereoRig& rig, const RectificationOptions& options) {
   options.Check();
+  try {
+    Build(rig, options);
+  } catch (const cv::Exception& e) {
+    // OpenCV's asserts on degenerate intrinsics or distortion: the rig is at fault, not us.
+    throw InputError(rig.source, std::string("OpenCV cannot rectify this rig (check the intrinsics and "
+                                             "distortion coefficients): ") + e.what());
+  } catch (const ConfigError& e) {
+    throw InputError(rig.source, std::string("the rectified camera is not usable: ") + e.what());
+  }
+}
+
+void StereoRectifier::Build(const StereoRig& rig, const RectificationOptions& options) {
   camera_.width = rig.cam0.width;
   camera_.height = rig.cam0.height;
   if (AlreadyRectified(rig) && !rig.given_rectification) {

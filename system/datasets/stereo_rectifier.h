@@ -47,6 +47,8 @@ class StereoRectifier {
   std::string RectifiedYamlText() const;
 
  private:
+  void Build(const StereoRig& rig, const RectificationOptions& options);
+
   StereoCamera camera_;
   Eigen::Matrix3d rect0_from_cam0_ = Eigen::Matrix3d::Identity();
   Eigen::Matrix3d rect1_from_cam1_ = Eigen::Matrix3d::Identity();

@@ -25,8 +25,9 @@ std::string Metres(double v) {
 void CheckCamera(const StereoRig& rig, const CameraIntrinsics& cam, const std::string& name) {
   if (!(cam.fx > 0) || !(cam.fy > 0) || !std::isfinite(cam.cx) || !std::isfinite(cam.cy))
     throw InputError(rig.source, name + ": expected positive focal lengths and a finite principal point");
-  if (cam.width <= 0 || cam.height <= 0)
-    throw InputError(rig.source, name + ": expected a positive image size (resolution)");
+  if (cam.width <= 0 || cam.height <= 0 || cam.width > 20000 || cam.height > 20000)
+    throw InputError(rig.source, name + ": expected an image size (resolution) of 1-20000 pixels a side, got " +
+                                     std::to_string(cam.width) + "x" + std::to_string(cam.height));
   const size_t n = cam.distortion.size();
   if (cam.lens == LensModel::kRadialTangential && n != 4 && n != 5)
     throw InputError(rig.source, name + ": expected 4 or 5 radial-tangential coefficients "
@@ -43,6 +44,10 @@ void CheckCamera(const StereoRig& rig, const CameraIntrinsics& cam, const std::s
 void CheckStereoRig(const StereoRig& rig) {
   CheckCamera(rig, rig.cam0, "cam0");
   CheckCamera(rig, rig.cam1, "cam1");
+  if (rig.cam0.width != rig.cam1.width || rig.cam0.height != rig.cam1.height)
+    throw InputError(rig.source, "expected both cameras at the same resolution (the rectified pair shares one), "
+                                 "got cam0 " + std::to_string(rig.cam0.width) + "x" + std::to_string(rig.cam0.height) +
+                                     ", cam1 " + std::to_string(rig.cam1.width) + "x" + std::to_string(rig.cam1.height));
   if (rig.cam0.lens != rig.cam1.lens)
     throw InputError(rig.source, "mixed distortion models: cam0 is " +
                                      NameOf(kLensModelNames, rig.cam0.lens) + ", cam1 " +
