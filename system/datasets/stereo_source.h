@@ -1,7 +1,8 @@
 #pragma once
 // A dataset as a sequence of rectified stereo pairs with optional ground truth. Readers
-// (kitti_raw_reader.h, kitti_odometry_reader.h) validate calibration, timestamps and file
-// lists in their constructors and decode images lazily in Load().
+// (kitti_raw_reader.h, kitti_odometry_reader.h, rig_stereo_source.h for a user's raw rig)
+// validate calibration, timestamps and file lists in their constructors and decode (and
+// rectify) images lazily in Load().
 #include <opencv2/core/mat.hpp>
 
 #include <optional>
@@ -44,7 +45,7 @@ class StereoSource {
   virtual ~StereoSource() = default;
   /// Sequence name, e.g. "2011_09_26_drive_0005_sync" or "00".
   virtual std::string name() const = 0;
-  /// "kitti_raw" or "kitti_odometry".
+  /// "kitti_raw", "kitti_odometry", "euroc" (ASL layout) or "stereo_folder" (InputKind's names).
   virtual std::string kind() const = 0;
   virtual const StereoCamera& camera() const = 0;
   virtual int size() const = 0;
