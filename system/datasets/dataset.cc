@@ -30,7 +30,13 @@ std::unique_ptr<StereoSource> OpenStereoSource(const std::string& path, const St
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "expected a dataset folder; it does not exist");
   if (!fs::is_directory(path, ec)) throw InputError(path, "expected a dataset folder; it is a file");
-  switch (DetectDataset(path)) {
+  const DatasetKind kind = DetectDataset(path);
+  if ((kind == DatasetKind::kKittiRaw || kind == DatasetKind::kKittiOdometry) &&
+      (!options.calib.empty() || !options.gt.empty()))
+    throw InputError(path, "is a KITTI folder, which carries its own calibration and ground truth; "
+                           "expected no --calib or --gt (they are for an ASL sequence or a plain "
+                           "left/ right/ folder)");
+  switch (kind) {
     case DatasetKind::kKittiRaw:
       return std::make_unique<KittiRawSource>(path, options.color);
     case DatasetKind::kKittiOdometry:

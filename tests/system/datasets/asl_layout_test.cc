@@ -200,5 +200,12 @@ TEST(StereoFolder, APlainFolderWithoutCalibIsRefusedWithWhatToGive) {
               HasSubstr("is a plain stereo folder (left/, right/): expected its calibration with --calib FILE"));
 }
 
+TEST(StereoFolder, CalibOrGtGivenForAKittiFolderIsRefusedNotIgnored) {
+  EXPECT_THAT(InputErrorMessage([] {
+                OpenStereoSource(testing::OdometrySequenceDir().string(), {false, "calib.yaml", ""});
+              }),
+              HasSubstr("is a KITTI folder, which carries its own calibration and ground truth; expected no --calib"));
+}
+
 }  // namespace
 }  // namespace cslam
