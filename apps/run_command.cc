@@ -38,10 +38,12 @@ int Run(const RunArgs& args) {
   input_options.gt = args.gt;
   RunInput input = OpenRunInput(args.input, input_options);
   if (!input.description_files.empty()) {
-    // A user's rig: refuse it before anything runs when the first pair shows it is not rectified.
+    // A user's rig: refuse it before anything runs when the first pair shows it is not
+    // rectified. A first pair too dark or bare to measure (a lens cap) proves nothing.
     const RigImageCheck check = CheckRigOnImages(*input.images, {0});
-    if (!check.ok)
+    if (!check.ok && check.measured)
       throw InputError(args.input, check.problem + " (cslam calib check shows the rectified pair)");
+    if (!check.ok) log->warn("the rig's rows could not be checked on the first pair: {}", check.problem);
   }
   PipelineOptions options = args.flags.Resolve(input);
   CheckMethodFitsInput(options.method, input);

@@ -77,6 +77,7 @@ RigImageCheck CheckRigOnImages(const StereoSource& source, const std::vector<int
   check.raw = Summarise(raw);
   if (check.rectified.matches < 20) {
     check.ok = false;
+    check.measured = false;
     check.problem = "only " + std::to_string(check.rectified.matches) +
                     " stereo matches in the checked pairs; expected at least 20 to measure the "
                     "rectification (are both cameras looking at the same textured scene?)";

@@ -27,6 +27,7 @@ struct RigImageCheck {
   VerticalOffsets rectified;  ///< over the checked pairs, after rectification
   VerticalOffsets raw;        ///< the same pairs as recorded (matches 0 when not measured)
   bool ok = true;
+  bool measured = true;       ///< false: too few matches to tell (then !ok too)
   std::string problem;        ///< what is wrong and the likely mistake, when !ok
 };
 

@@ -5,6 +5,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
 #include <cstdio>
 
 #include "core/errors.h"
@@ -149,6 +152,36 @@ TEST_F(CliOwnRig, ACalibrationInMillimetresIsRefusedByRun) {
   const auto r = Cslam({"run", folder.string(), "--calib", calib.string(), "--out", (tmp_.path() / "o").string()});
   EXPECT_EQ(r.exit_code, kExitInputError) << r.err;
   EXPECT_THAT(r.err, HasSubstr("expected 0.01-2 m for a stereo rig"));
+}
+
+TEST_F(CliOwnRig, ABlankFirstPairIsNotRefusedByRunButCalibCheckCannotMeasureIt) {
+  const fs::path folder = tmp_.path() / "blank";
+  const cv::Mat black(48, 64, CV_8UC1, cv::Scalar(0));
+  for (const char* side : {"left", "right"}) {
+    fs::create_directories(folder / side);
+    for (int i = 0; i < 3; ++i) cv::imwrite((folder / side / ("00000" + std::to_string(i) + ".png")).string(), black);
+  }
+  WriteText(tmp_.path() / "camchain.yaml", R"(cam0:
+  camera_model: pinhole
+  intrinsics: [50, 50, 32, 24]
+  distortion_model: radtan
+  distortion_coeffs: [-0.1, 0.01, 0, 0]
+  resolution: [64, 48]
+cam1:
+  T_cn_cnm1: [[1, 0, 0, -0.12], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
+  camera_model: pinhole
+  intrinsics: [50, 50, 32, 24]
+  distortion_model: radtan
+  distortion_coeffs: [-0.1, 0.01, 0, 0]
+  resolution: [64, 48]
+)");
+  const std::string calib = (tmp_.path() / "camchain.yaml").string();
+  const auto run = Cslam({"run", folder.string(), "--calib", calib, "--out", (tmp_.path() / "o").string(), "--no-progress"});
+  EXPECT_NE(run.exit_code, kExitInputError) << run.err;
+  EXPECT_THAT(run.err, HasSubstr("the rig's rows could not be checked on the first pair"));
+  const auto check = Cslam({"calib", "check", folder.string(), "--calib", calib, "--out", (tmp_.path() / "c").string()});
+  EXPECT_EQ(check.exit_code, kExitInputError);
+  EXPECT_THAT(check.err, HasSubstr("only 0 stereo matches in the checked pairs; expected at least 20"));
 }
 
 }  // namespace
