@@ -46,6 +46,9 @@ struct RunInput {
   std::optional<TrackletTable> observations;          ///< ready-made tracklets (synthetic)
   std::optional<std::vector<Pose>> gt_world_from_cam; ///< per frame, world = camera at frame 0
   std::optional<SyntheticSequence> synthetic;         ///< full synthetic ground truth
+  /// The synthetic sequence folder whose object-id images label the landmarks ("" = path); a
+  /// rig re-recorded from it (cslam synth --rig) lives elsewhere.
+  std::string synthetic_dir;
   std::vector<std::vector<ObjectBox>> gt_boxes;       ///< [frame] labelled boxes (KITTI raw)
   std::optional<GroundTruthCrossCheck> gt_cross_check; ///< the ground truth's own second estimate
   /// (name, text) files the run writes to say how it read the input (rig.yaml, rectified.yaml).

@@ -57,6 +57,24 @@ void RawToRendered(const CameraIntrinsics& raw, const Eigen::Matrix3d& rect_from
     }
 }
 
+bool Inside(const cv::Mat& mx, const cv::Mat& my, int width, int height);
+
+// Whether every pixel of the rendered camera, rotated into the raw camera, lands inside the
+// raw image.
+bool CoversRendered(const CameraIntrinsics& raw, const Eigen::Matrix3d& rect_from_raw, const StereoCamera& rendered) {
+  const cv::Mat k = (cv::Mat_<double>(3, 3) << raw.fx, 0, raw.cx, 0, raw.fy, raw.cy, 0, 0, 1);
+  const cv::Mat p = (cv::Mat_<double>(3, 3) << rendered.fx, 0, rendered.cx, 0, rendered.fy, rendered.cy, 0, 0, 1);
+  cv::Mat r(3, 3, CV_64F), mx, my;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) r.at<double>(i, j) = rect_from_raw(i, j);
+  const cv::Size size(rendered.width, rendered.height);
+  if (raw.lens == LensModel::kEquidistant)
+    cv::fisheye::initUndistortRectifyMap(k, raw.distortion, r, p, size, CV_32FC1, mx, my);
+  else
+    cv::initUndistortRectifyMap(k, raw.distortion, r, p, size, CV_32FC1, mx, my);
+  return Inside(mx, my, raw.width, raw.height);
+}
+
 bool Inside(const cv::Mat& mx, const cv::Mat& my, int width, int height) {
   double lo_x, hi_x, lo_y, hi_y;
   cv::minMaxLoc(mx, &lo_x, &hi_x);
@@ -107,6 +125,21 @@ std::string OpenCvText(const StereoRig& rig) {
          OpenCvMatrix("T", rig.cam1_from_cam0.translation());
 }
 
+// The same rig with the rectification that gives back the rendered camera exactly.
+std::string OpenCvRectifiedText(const StereoRig& rig, const Eigen::Matrix3d& rect0_from_raw0,
+                                const Eigen::Matrix3d& rect1_from_raw1, const StereoCamera& rendered) {
+  Eigen::Matrix<double, 3, 4> p0 = Eigen::Matrix<double, 3, 4>::Zero();
+  p0(0, 0) = rendered.fx;
+  p0(1, 1) = rendered.fy;
+  p0(0, 2) = rendered.cx;
+  p0(1, 2) = rendered.cy;
+  p0(2, 2) = 1;
+  Eigen::Matrix<double, 3, 4> p1 = p0;
+  p1(0, 3) = -rendered.fx * rendered.baseline;
+  return OpenCvText(rig) + OpenCvMatrix("R1", rect0_from_raw0) + OpenCvMatrix("R2", rect1_from_raw1) +
+         OpenCvMatrix("P1", p0) + OpenCvMatrix("P2", p1);
+}
+
 std::string OrbSlam3Text(const StereoRig& rig) {
   std::ostringstream s;
   s << std::setprecision(15) << "%YAML:1.0\nFile.version: \"1.0\"\nCamera.type: \""
@@ -154,15 +187,18 @@ std::string WriteDistortedRig(const SyntheticSequence& sequence, const std::stri
   const Eigen::Matrix3d rect0_from_raw0 = ExpSO3(Eigen::Vector3d(0.3, -0.5, 0.2) * kDeg);
   const Eigen::Matrix3d rect1_from_raw1 =
       ExpSO3(Eigen::Vector3d(0.4, options.right_rotation_deg, -0.3) * kDeg);
+  // The raw focal length: the largest (in 2 % steps down from the rendered one) at which the
+  // raw image still sees every rendered pixel, so that rectifying back to the rendered camera
+  // (opencv_rectified.yml) leaves no pixel without data.
   cv::Mat mx0, my0, mx1, my1;
-  for (double scale = 1.0;; scale *= 1.02) {
+  for (double scale = 1.0;; scale /= 1.02) {
     rig.cam0.fx = rig.cam0.fy = scale * cam.fx;
     rig.cam1.fx = rig.cam1.fy = scale * cam.fx * 1.003;
-    RawToRendered(rig.cam0, rect0_from_raw0, cam, &mx0, &my0);
-    RawToRendered(rig.cam1, rect1_from_raw1, cam, &mx1, &my1);
-    if (Inside(mx0, my0, cam.width, cam.height) && Inside(mx1, my1, cam.width, cam.height)) break;
-    if (scale > 4) throw InputError(dir, "cannot fit the distorted rig inside the rendered images");
+    if (CoversRendered(rig.cam0, rect0_from_raw0, cam) && CoversRendered(rig.cam1, rect1_from_raw1, cam)) break;
+    if (scale < 0.25) throw InputError(dir, "cannot fit the rendered images inside the distorted rig's");
   }
+  RawToRendered(rig.cam0, rect0_from_raw0, cam, &mx0, &my0);
+  RawToRendered(rig.cam1, rect1_from_raw1, cam, &mx1, &my1);
   Pose body_from_cam0 = Pose::Identity(), body_from_cam1 = Pose::Identity();
   body_from_cam0.linear() = rect0_from_raw0;
   body_from_cam1.linear() = rect1_from_raw1;
@@ -201,6 +237,9 @@ std::string WriteDistortedRig(const SyntheticSequence& sequence, const std::stri
   text(out / "camchain.yaml", KalibrCamchainText(rig));
   text(out / "opencv_stereo.yml", OpenCvText(rig));
   text(out / "orbslam3_settings.yaml", OrbSlam3Text(rig));
+  text(out / "opencv_rectified.yml", OpenCvRectifiedText(rig, rect0_from_raw0, rect1_from_raw1, cam));
+  // Where the rendered sequence's truth is, for a run rectified back to the rendered camera.
+  text(out / "synthetic_truth.txt", "..\n");
   text(out / "groundtruth_tum.txt", gt);
   return out.string();
 }

@@ -21,10 +21,14 @@ struct DistortedRigOptions {
 
 /// Reads the rendered images of the synthetic sequence folder `dir` (WriteSyntheticImages)
 /// and writes DIR/rig_<lens>/: mav0/cam{0,1}/{data.csv, data/<ns>.png, sensor.yaml},
-/// camchain.yaml (Kalibr), opencv_stereo.yml, orbslam3_settings.yaml and groundtruth_tum.txt
-/// (body = rendered left camera; image times are 1 s + the sequence's seconds). Each raw pixel
-/// is the rendered pixel its ray meets (bilinear); the raw focal length is the smallest (in 2 %
-/// steps from the rendered one) at which every raw ray falls inside the rendered images.
+/// camchain.yaml (Kalibr), opencv_stereo.yml, orbslam3_settings.yaml, groundtruth_tum.txt
+/// (body = rendered left camera; image times are 1 s + the sequence's seconds), and
+/// opencv_rectified.yml: the same rig with R1 R2 P1 P2 that rectify back to the rendered camera,
+/// with synthetic_truth.txt ("..") so that a run with it is scored on the sequence's truth,
+/// objects included (OpenRunInput). Each raw pixel is the rendered pixel its ray meets
+/// (bilinear; rays outside the rendered image take its edge); the raw focal length is the
+/// largest (2 % steps down from the rendered one) at which the raw image sees every rendered
+/// pixel.
 /// Returns the rig folder. Throws InputError / OutputError naming the file.
 std::string WriteDistortedRig(const SyntheticSequence& sequence, const std::string& dir,
                               const DistortedRigOptions& options);
