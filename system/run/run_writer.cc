@@ -10,6 +10,7 @@
 #include "system/io/image_io.h"
 #include "system/draw/render_scene.h"
 #include "system/render/point_cloud_export.h"
+#include "system/run/object_motion_file.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
@@ -90,6 +91,8 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
     WriteTrajectory(t, stem + ".tum", TrajectoryFormat::kTum);
+    if (const auto track = result.object_tracks.find(id); track != result.object_tracks.end())
+      WriteObjectMotion(track->second, stem + "_motion.csv");
   }
 
   std::vector<RenderPoint> cloud;
