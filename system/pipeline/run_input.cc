@@ -8,9 +8,9 @@
 #include "core/logging.h"
 #include "system/datasets/dataset.h"
 #include "system/datasets/kitti_odometry_reader.h"
+#include "system/io/input_files.h"
 #include "system/synthetic/synthetic_image_io.h"
 #include "system/synthetic/synthetic_io.h"
-#include "system/io/input_files.h"
 
 namespace cslam {
 
