@@ -26,5 +26,7 @@ Command AddDemoCommand(CLI::App& app);
 Command AddBenchCommand(CLI::App& app);
 /// `cslam render OUT`: the pictures of a finished run, drawn again from its output files.
 Command AddRenderCommand(CLI::App& app);
+/// `cslam calib check INPUT`: does a rig's calibration rectify its images (docs/own_rig.md).
+Command AddCalibCommand(CLI::App& app);
 
 }  // namespace cslam::apps

@@ -6,6 +6,8 @@
 #include "apps/command.h"
 #include "core/timer.h"
 #include "system/synthetic/synthetic_image_io.h"
+#include "core/errors.h"
+#include "system/synthetic_images/distorted_rig_writer.h"
 #include "system/synthetic_images/synthetic_image_writer.h"
 #include "system/synthetic/synthetic_io.h"
 #include "system/synthetic/synthetic_scene.h"
@@ -19,6 +21,7 @@ Command AddSynthCommand(CLI::App& app) {
     bool images = false;
     SyntheticRenderOptions render;
     double texture_period_m = 0;  // 0: the preset's
+    std::vector<std::string> rigs;  // lens models of distorted raw rigs to write
   };
   auto args = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand(
@@ -50,6 +53,11 @@ Command AddSynthCommand(CLI::App& app) {
                   "with --images: render k times larger and filter down (1-4)")
       ->check(CLI::Range(1, 4))
       ->capture_default_str();
+  sub->add_option("--rig", args->rigs,
+                  "with --images: also write the images as a distorted raw rig records them "
+                  "(radtan and/or equidistant): DIR/rig_<lens>/, ASL layout, calibration in "
+                  "every format, body ground truth (docs/own_rig.md)")
+      ->check(CLI::IsMember({"radtan", "equidistant"}));
 
   return {sub, [args]() {
             const Timer timer;
@@ -72,6 +80,14 @@ Command AddSynthCommand(CLI::App& app) {
               std::printf("rendered %d stereo frames %dx%d with object ids into %s in %.2f s.\n",
                           seq.num_frames(), seq.camera.width, seq.camera.height,
                           SyntheticImagesDir(args->out).c_str(), render_timer.ElapsedS());
+              for (const std::string& lens : args->rigs) {
+                DistortedRigOptions rig;
+                rig.lens = ParseEnum(kLensModelNames, lens, "--rig");
+                std::printf("distorted %s rig: %s\n", lens.c_str(),
+                            WriteDistortedRig(seq, args->out, rig).c_str());
+              }
+            } else if (!args->rigs.empty()) {
+              throw ConfigError("--rig", "needs --images (the rig is made from the rendered images)");
             }
             return 0;
           }};

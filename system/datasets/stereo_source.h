@@ -1,11 +1,13 @@
 #pragma once
 // A dataset as a sequence of rectified stereo pairs with optional ground truth. Readers
-// (kitti_raw_reader.h, kitti_odometry_reader.h) validate calibration, timestamps and file
-// lists in their constructors and decode images lazily in Load().
+// (kitti_raw_reader.h, kitti_odometry_reader.h, rig_stereo_source.h for a user's raw rig)
+// validate calibration, timestamps and file lists in their constructors and decode (and
+// rectify) images lazily in Load().
 #include <opencv2/core/mat.hpp>
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/rigid.h"
@@ -43,7 +45,7 @@ class StereoSource {
   virtual ~StereoSource() = default;
   /// Sequence name, e.g. "2011_09_26_drive_0005_sync" or "00".
   virtual std::string name() const = 0;
-  /// "kitti_raw" or "kitti_odometry".
+  /// "kitti_raw", "kitti_odometry", "euroc" (ASL layout) or "stereo_folder" (InputKind's names).
   virtual std::string kind() const = 0;
   virtual const StereoCamera& camera() const = 0;
   virtual int size() const = 0;
@@ -58,6 +60,9 @@ class StereoSource {
   virtual std::vector<std::vector<ObjectBox>> ObjectBoxes() const { return {}; }
   /// The ground truth's cross-check, when the dataset has one (KITTI raw with OXTS).
   virtual std::optional<GroundTruthCrossCheck> CrossCheck() const { return std::nullopt; }
+  /// Files (name, text) a run writes into its output folder to say how it understood the
+  /// input, e.g. a user's rig: rig.yaml and rectified.yaml. Empty for the KITTI readers.
+  virtual std::vector<std::pair<std::string, std::string>> DescriptionFiles() const { return {}; }
 };
 
 }  // namespace cslam

@@ -1,11 +1,14 @@
 #include "system/pipeline/run_input.h"
 
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "core/errors.h"
 #include "core/logging.h"
 #include "system/datasets/dataset.h"
 #include "system/datasets/kitti_odometry_reader.h"
+#include "system/io/input_files.h"
 #include "system/synthetic/synthetic_image_io.h"
 #include "system/synthetic/synthetic_io.h"
 
@@ -47,6 +50,9 @@ class TruncatedSource : public StereoSource {
     if (static_cast<int>(boxes.size()) > n_) boxes.resize(n_);
     return boxes;
   }
+  std::vector<std::pair<std::string, std::string>> DescriptionFiles() const override {
+    return inner_->DescriptionFiles();
+  }
   std::optional<GroundTruthCrossCheck> CrossCheck() const override {
     auto check = inner_->CrossCheck();
     if (check && static_cast<int>(check->positions.size()) > n_) check->positions.resize(n_);
@@ -67,6 +73,40 @@ void TruncateSynthetic(SyntheticSequence* s, int n) {
   s->timestamps.resize(n);
   s->world_from_cam.resize(n);
   for (auto& traj : s->world_from_object) traj.resize(n);
+}
+
+// A raw rig re-recorded from a rendered synthetic sequence (cslam synth --rig) names the
+// sequence in synthetic_truth.txt. Rectified back to the rendered camera (its
+// opencv_rectified.yml), its images are the sequence's again: it is scored on the sequence's
+// truth, objects included. Any other rectification has another camera: the rig's own ground
+// truth (groundtruth_tum.txt via --gt) scores the camera only.
+void UseSyntheticTruthOfARig(const std::string& path, int max_frames, RunInput* in) {
+  const fs::path marker = fs::path(path) / "synthetic_truth.txt";
+  std::error_code ec;
+  if (!fs::is_regular_file(marker, ec)) return;
+  std::ifstream f = OpenTextFile(marker.string(), "synthetic truth marker");
+  std::string rel;
+  std::getline(f, rel);
+  fs::path dir_path = (fs::path(path) / rel).lexically_normal();
+  if (dir_path.filename().empty()) dir_path = dir_path.parent_path();  // "rig/.." → "seq/" → "seq"
+  const std::string dir = dir_path.string();
+  SyntheticSequence seq = ReadSynthetic(dir);
+  TruncateSynthetic(&seq, max_frames);
+  const StereoCamera &a = in->camera, &b = seq.camera;
+  const bool same = std::abs(a.fx - b.fx) < 1e-9 && std::abs(a.fy - b.fy) < 1e-9 && std::abs(a.cx - b.cx) < 1e-9 &&
+                    std::abs(a.cy - b.cy) < 1e-9 && std::abs(a.baseline - b.baseline) < 1e-9 &&
+                    a.width == b.width && a.height == b.height;
+  if (!same || seq.num_frames() != in->num_frames()) {
+    GetLogger("system")->info("{}: rectified to another camera than the rendered one of {}: scored on the "
+                              "rig's own ground truth (--calib {}/opencv_rectified.yml scores objects too)",
+                              path, dir, path);
+    return;
+  }
+  in->kind = InputKind::kSyntheticImages;
+  in->gt_world_from_cam = seq.world_from_cam;
+  in->synthetic_dir = dir;
+  in->synthetic = std::move(seq);
+  GetLogger("system")->info("{}: rectified back to the rendered camera; scored on the synthetic truth of {}", path, dir);
 }
 
 }  // namespace
@@ -102,7 +142,7 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
     in.synthetic = std::move(seq);
     return in;
   }
-  std::unique_ptr<StereoSource> src = OpenStereoSource(path, options.color);
+  std::unique_ptr<StereoSource> src = OpenStereoSource(path, {options.color, options.calib, options.gt});
   if (options.max_frames > 0 && options.max_frames < src->size())
     src = std::make_unique<TruncatedSource>(std::move(src), options.max_frames);
   if (src->size() == 0) throw InputError(path, "contains no stereo frames");
@@ -113,7 +153,9 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
   in.gt_world_from_cam = src->GroundTruth();
   in.gt_boxes = src->ObjectBoxes();
   in.gt_cross_check = src->CrossCheck();
+  in.description_files = src->DescriptionFiles();
   in.images = std::move(src);
+  if (in.kind == InputKind::kEuroc) UseSyntheticTruthOfARig(path, options.max_frames, &in);
   return in;
 }
 

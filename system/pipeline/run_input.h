@@ -22,6 +22,8 @@ enum class InputKind {
   kKittiOdometry,    ///< a KITTI odometry sequence
   kSynthetic,        ///< a synthetic sequence replayed as tracklets (no images)
   kSyntheticImages,  ///< a synthetic sequence with rendered stereo images
+  kEuroc,            ///< an ASL-layout sequence (EuRoC, TUM-VI), rectified as it is read
+  kStereoFolder,     ///< a plain left/ right/ folder with a --calib file, rectified as read
 };
 /// The kinds' names in logs, messages and run outputs (StereoSource::kind() uses the same).
 inline constexpr EnumName<InputKind> kInputKindNames[] = {
@@ -29,6 +31,8 @@ inline constexpr EnumName<InputKind> kInputKindNames[] = {
     {InputKind::kKittiOdometry, "kitti_odometry"},
     {InputKind::kSynthetic, "synthetic"},
     {InputKind::kSyntheticImages, "synthetic_images"},
+    {InputKind::kEuroc, "euroc"},
+    {InputKind::kStereoFolder, "stereo_folder"},
 };
 
 /// An opened input sequence; see the file comment.
@@ -42,8 +46,13 @@ struct RunInput {
   std::optional<TrackletTable> observations;          ///< ready-made tracklets (synthetic)
   std::optional<std::vector<Pose>> gt_world_from_cam; ///< per frame, world = camera at frame 0
   std::optional<SyntheticSequence> synthetic;         ///< full synthetic ground truth
+  /// The synthetic sequence folder whose object-id images label the landmarks ("" = path); a
+  /// rig re-recorded from it (cslam synth --rig) lives elsewhere.
+  std::string synthetic_dir;
   std::vector<std::vector<ObjectBox>> gt_boxes;       ///< [frame] labelled boxes (KITTI raw)
   std::optional<GroundTruthCrossCheck> gt_cross_check; ///< the ground truth's own second estimate
+  /// (name, text) files the run writes to say how it read the input (rig.yaml, rectified.yaml).
+  std::vector<std::pair<std::string, std::string>> description_files;
 
   int num_frames() const { return static_cast<int>(timestamps.size()); }
   bool has_images() const { return images != nullptr; }
@@ -54,6 +63,10 @@ struct InputOptions {
   bool color = false;     ///< KITTI raw: use the colour pair image_02/03 (converted to grey)
   int max_frames = 0;     ///< 0 = all; otherwise only the first max_frames
   bool use_images = true; ///< synthetic with images: false replays the stored tracklets instead
+  // A rig's files come from the command line only (not config keys: a configuration is
+  // meant to be reused across inputs).
+  std::string calib;      ///< a rig's calibration file (--calib; required for a plain folder)
+  std::string gt;         ///< a rig's TUM-format ground truth (--gt)
   void Check() const;
   void Load(OptionsReader& r);
 };

@@ -157,7 +157,9 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result,
     lm_truth.in_object = seq.landmark_in_object;
   } else if (input.kind == InputKind::kSyntheticImages) {
     lm_truth = LabelLandmarksByIdImages(
-        table, seq, [&](int frame) { return ReadObjectIdImage(input.path, frame); });
+        table, seq, [&](int frame) {
+          return ReadObjectIdImage(input.synthetic_dir.empty() ? input.path : input.synthetic_dir, frame);
+        });
   } else {
     return;
   }
