@@ -28,7 +28,7 @@ struct RunArgs {
 };
 
 int Run(const RunArgs& args) {
-  auto log = GetLogger("app");
+  QuietConsole(args.flags.verbose);
   RunInput input = OpenRunInput(args.input, args.flags.InputOptionsFor());
   PipelineOptions options = args.flags.Resolve(input);
   CheckMethodFitsInput(options.method, input);
@@ -36,16 +36,15 @@ int Run(const RunArgs& args) {
   options.out_dir = out;
   options.painter = std::make_shared<OffscreenFramePainter>();
   // The output folder is created only once the input and the configuration are known good.
-  PrepareOutputFolder(out);
+  PrepareRunFolder(out, "run", input, args.flags);
   AttachLogFile(out + "/run.log");
-  log->info("{} ({}, {} frames) → {}", input.path, NameOf(kInputKindNames, input.kind), input.num_frames(), out);
-  log->info("configuration: {}", options.source);
-  log->info("effective configuration:\n{}", options.ToYaml());
+  PrintRunHeader(input, options, out);
 
   StopFlag stop;
   ProgressBar bar("frames", args.flags.progress);
-  PipelineResult result =
-      RunPipeline(input, options, stop.flag(), [&](int done, int total) { bar.Update(done, total); });
+  PipelineResult result = RunPipeline(input, options, stop.flag(), [&](int done, int total, int objects) {
+    bar.Update(done, total, objects);
+  });
   bar.Finish();
   return FinishRun(input, result, options, out, stop);
 }

@@ -1,6 +1,7 @@
 #include "system/run/run_writer.h"
 
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 
 #include "core/atomic_file.h"
@@ -31,10 +32,9 @@ int FirstFrameOf(const TrackletTable& table, int landmark) {
 
 }  // namespace
 
-void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
-                     const RunTrajectories& trajectories, const PipelineOptions& options,
-                     const std::string& out_dir, const RunMetrics* metrics) {
-  auto log = GetLogger("system");
+RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
+                           const RunTrajectories& trajectories, const PipelineOptions& options,
+                           const std::string& out_dir, const RunMetrics* metrics) {
   const fs::path out(out_dir);
   const MapState& map = result.map;
 
@@ -122,16 +122,6 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                         o << "# configuration: " << options.source << "\n" << options.ToYaml();
                       });
 
-  if (options.output.trajectory_plot) {
-    try {
-      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
-    } catch (const OutputError&) {
-      throw;
-    } catch (const Error& e) {
-      log->warn("render/trajectory.png not written: {}", e.what());
-    }
-  }
-
   // What each window cost and how big the map was after it: a long run's cost must not grow
   // with its history.
   WriteFileAtomically((out / "windows.csv").string(), [&](std::ostream& o) {
@@ -145,8 +135,28 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
         << "," << w.live_landmarks << "\n";
   });
   WriteResourceLog(result.resources, out_dir);
-  if (options.output.trajectory_plot) WriteResourceChart(result.resources, out_dir);
   if (metrics) WriteMetricsJson(*metrics, (out / "metrics.json").string());
+  return outputs;
+}
+
+std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
+                                          const std::vector<ResourceSample>& resources,
+                                          const PipelineOptions& options, const std::string& out_dir) {
+  const fs::path out(out_dir);
+  std::vector<std::string> failed;
+  const auto attempt = [&](const std::string& name, const std::function<void()>& draw) {
+    try {
+      draw();
+    } catch (const std::exception& e) {
+      failed.push_back(name + ": " + e.what());
+    }
+  };
+  if (!options.output.trajectory_plot) return failed;
+  attempt("render/trajectory.png", [&] {
+    WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
+  });
+  attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
+  return failed;
 }
 
 }  // namespace cslam
