@@ -49,10 +49,16 @@ void RunFlags::Register(CLI::App* sub) {
       ->check(CLI::IsMember(NamesOf(kRunModeNames)));
   sub->add_flag("--realtime", realtime, "pace the input by its timestamps; skip windows when late");
   sub->add_flag("--sequential", sequential, "run the online stages in one thread (deterministic)");
-  sub->add_option("--snapshots-every", snapshots_every, "render a snapshot every N frames (0: off)")
+  sub->add_option("--snapshots-every", snapshots_every,
+                  "online-state snapshot every N frames, drawn during the run (0: off)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--overlays-every", overlays_every, "render a keypoint overlay every N frames (0: off)")
+  sub->add_option("--overlays-every", overlays_every,
+                  "online-state keypoint overlay every N frames, drawn during the run (0: off)")
       ->check(CLI::NonNegativeNumber);
+  sub->add_option("--pictures", pictures,
+                  "final-state snapshots and overlays at N frames spread over the run, drawn "
+                  "after it from its outputs (default 3; 0: none)")
+      ->check(CLI::Range(0, 100));
   sub->add_option("--max-frames", max_frames, "process only the first N frames (0: all)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--cameras", cameras,
@@ -89,6 +95,7 @@ PipelineOptions RunFlags::Resolve(const RunInput& input) const {
   if (sequential) o.online.sequential = true;
   if (snapshots_every >= 0) o.output.snapshots_every = snapshots_every;
   if (overlays_every >= 0) o.output.overlays_every = overlays_every;
+  if (pictures >= 0) o.output.final_pictures = pictures;
   o.input = InputOptionsFor();
   // A drive with only the colour pair runs on it (OpenRunInput): the configuration says so.
   if (input.kind == InputKind::kKittiRaw && input.color) o.input.color = true;
@@ -197,7 +204,7 @@ int FinishRun(const RunInput& input, const PipelineResult& result, const Pipelin
   std::printf("%s", SummarizeMetrics(metrics).c_str());
   std::fflush(stdout);
   // The pictures come last: whatever happens to them, the results above are on disk.
-  std::vector<std::string> failed = WriteRunPictures(outputs, result.resources, options, out);
+  std::vector<std::string> failed = WriteRunPictures(outputs, result.resources, options, out, &input);
   if (result.renders.failed > 0)
     failed.push_back(std::to_string(result.renders.failed) + " snapshot(s) or overlay(s) during the run");
   for (const std::string& f : failed) log->error("picture not written: {}", f);

@@ -25,6 +25,7 @@ struct RunFlags {
   bool sequential = false;
   int snapshots_every = -1;
   int overlays_every = -1;
+  int pictures = -1;  ///< final-state pictures (output.final_pictures); -1 = not given
   int max_frames = 0;
   std::string cameras;       ///< "" = the configuration's input.color (default grey)
   bool progress = true;

@@ -21,13 +21,32 @@ struct RunLandmark {
   Eigen::Vector3d p_world = Eigen::Vector3d::Zero();  ///< where it was at last_frame (see WorldPositionRule)
 };
 
+/// A keypoint on a final-state overlay: a landmark's left-image pixels over the last frames.
+struct RunKeypoint {
+  int landmark = 0;
+  std::vector<Eigen::Vector2d> trail;  ///< oldest .. the overlay's frame
+};
+
 /// See the file comment.
 struct RunOutputs {
   Trajectory camera;                ///< camera_trajectory.txt (frames of the poses)
   Trajectory gt_camera;             ///< camera_trajectory_gt.txt; empty without ground truth
   std::map<int, Trajectory> clusters;  ///< objects/<id>.txt by cluster id (frames of the poses)
   std::vector<RunLandmark> landmarks;  ///< clusters.csv
+  /// overlay_keypoints.csv: the keypoints of each final-state overlay frame (by frame).
+  std::map<int, std::vector<RunKeypoint>> keypoints;
 };
+
+/// A moving cluster's landmark centroid in its own frame and how many landmarks it averages.
+struct ClusterCentroid {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  int landmarks = 0;
+};
+
+/// Each moving cluster's ClusterCentroid (its landmarks brought back by the pose that placed
+/// them, PlacingPoseIndex): where its trajectory is drawn through, since a cluster frame's
+/// origin can lie anywhere.
+std::map<int, ClusterCentroid> ClusterCentroids(const RunOutputs& outputs);
 
 /// The frame whose cluster pose places a moving landmark in clusters.csv: its last frame when
 /// the cluster has a pose there, else the cluster's last pose (index into `cluster.poses`).

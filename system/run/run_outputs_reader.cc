@@ -133,6 +133,27 @@ RunOutputs ReadRunOutputs(const std::string& out_dir) {
                                      "cluster " + f[1] + " has no trajectory in " + index);
                   outputs.landmarks.push_back(l);
                 });
+
+  // The final-state overlays' keypoints: written only for runs on images.
+  const fs::path keypoints = out / "overlay_keypoints.csv";
+  if (fs::exists(keypoints, ec)) {
+    const std::string file = keypoints.string();
+    ForEachCsvRow(file, "overlay keypoints", "frame,landmark,step,u,v",
+                  [&](const std::vector<std::string>& f, int line) {
+                    const int frame = ParseInt(f[0], file, line, "frame");
+                    const int landmark = ParseInt(f[1], file, line, "landmark");
+                    const int step = ParseInt(f[2], file, line, "step");
+                    std::vector<RunKeypoint>& at = outputs.keypoints[frame];
+                    if (step == 0) at.push_back({landmark, {}});
+                    if (at.empty() || at.back().landmark != landmark ||
+                        static_cast<int>(at.back().trail.size()) != step)
+                      throw InputError(file, line, "expected step " +
+                                                       std::to_string(at.empty() ? 0 : at.back().trail.size()) +
+                                                       " of landmark " + f[1] + "'s trail");
+                    at.back().trail.emplace_back(ParseFinite(f[3], file, line, "u"),
+                                                 ParseFinite(f[4], file, line, "v"));
+                  });
+  }
   return outputs;
 }
 

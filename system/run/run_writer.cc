@@ -11,6 +11,7 @@
 #include "system/io/image_io.h"
 #include "system/draw/render_scene.h"
 #include "system/render/point_cloud_export.h"
+#include "system/run/final_pictures.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
@@ -136,12 +137,39 @@ RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
   });
   WriteResourceLog(result.resources, out_dir);
   if (metrics) WriteMetricsJson(*metrics, (out / "metrics.json").string());
+
+  // The keypoints of the final-state overlays: a run keeps its observations only where the
+  // ground truth needs them (or a window still does), so the frames are chosen among those
+  // still held.
+  if (input.has_images() && options.output.final_pictures > 0) {
+    std::vector<int> held;
+    for (int f : camera.frames)
+      if (f < result.table.num_frames() && !result.table.ObservationsAt(f).empty()) held.push_back(f);
+    for (int f : SpreadFrames(held, options.output.final_pictures)) {
+      std::vector<RunKeypoint>& keypoints = outputs.keypoints[f];
+      const FrameRange trail{std::max(0, f - kOverlayTrailFrames + 1), f + 1};
+      for (const ObservationRef& ref : result.table.ObservationsAt(f)) {
+        RunKeypoint k{ref.landmark, {}};
+        for (const StereoObservation& o : result.table.ObservationsOf(ref.landmark, trail))
+          k.trail.emplace_back(o.x(0), o.x(1));
+        keypoints.push_back(std::move(k));
+      }
+    }
+    WriteFileAtomically((out / "overlay_keypoints.csv").string(), [&](std::ostream& o) {
+      o << "frame,landmark,step,u,v\n" << std::setprecision(7);
+      for (const auto& [f, keypoints] : outputs.keypoints)
+        for (const RunKeypoint& k : keypoints)
+          for (size_t i = 0; i < k.trail.size(); ++i)
+            o << f << "," << k.landmark << "," << i << "," << k.trail[i].x() << "," << k.trail[i].y() << "\n";
+    });
+  }
   return outputs;
 }
 
 std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
                                           const std::vector<ResourceSample>& resources,
-                                          const PipelineOptions& options, const std::string& out_dir) {
+                                          const PipelineOptions& options, const std::string& out_dir,
+                                          const RunInput* input) {
   const fs::path out(out_dir);
   std::vector<std::string> failed;
   const auto attempt = [&](const std::string& name, const std::function<void()>& draw) {
@@ -156,6 +184,12 @@ std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
     WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
   });
   attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
+  if (input && options.output.final_pictures > 0) {
+    for (const std::string& f :
+         WriteFinalPictures(outputs, SpreadFrames(outputs.camera.frames, options.output.final_pictures),
+                            input->camera, input->images.get(), (out / "render").string()))
+      failed.push_back("render/" + f);
+  }
   return failed;
 }
 

@@ -22,12 +22,17 @@ RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                            const RunTrajectories& trajectories, const PipelineOptions& options,
                            const std::string& out_dir, const RunMetrics* metrics);
 
+/// Frames of a final-state overlay's keypoint trails (as the online overlays).
+inline constexpr int kOverlayTrailFrames = 6;
+
 /// Draws the run's pictures from its final outputs into `out_dir`/render: trajectory.png
-/// (RenderRunTrajectoryPlot) and resources.png, as options.output asks. A picture that cannot
-/// be drawn or written does not stop the others; returns one line per picture not written
-/// ("render/trajectory.png: why").
+/// (RenderRunTrajectoryPlot), resources.png, and with `input` (its camera and images) the
+/// final-state snapshots and overlays of system/run/final_pictures.h, as options.output asks.
+/// A picture that cannot be drawn or written does not stop the others; returns one line per
+/// picture not written ("render/trajectory.png: why").
 std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
                                           const std::vector<ResourceSample>& resources,
-                                          const PipelineOptions& options, const std::string& out_dir);
+                                          const PipelineOptions& options, const std::string& out_dir,
+                                          const RunInput* input = nullptr);
 
 }  // namespace cslam

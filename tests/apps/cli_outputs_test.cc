@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include "core/errors.h"
 #include "tests/apps/subprocess.h"
 #include "tests/system/kitti_fixtures.h"
@@ -119,6 +121,33 @@ TEST_F(CliOutputs, InputColorFromAConfigFileIsHonoured) {
   EXPECT_THAT(r.err, HasSubstr((drive_ / "image_02").string()));
   EXPECT_THAT(r.err, HasSubstr("the colour pair was asked for"));
   EXPECT_FALSE(fs::exists(out()));
+}
+
+TEST_F(CliOutputs, FinalPicturesAreDrawnByDefaultAndRenderDrawsThemAgainFromTheRecordedInput) {
+  const auto r = Run({"--pictures", "2"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Frames 0..4 spread in two: the middles of 0-1 and 2-4 (SpreadFrames).
+  const std::vector<std::string> pictures = {"final_snapshot_000001.png", "final_snapshot_000003.png",
+                                             "final_overlay_000001.png", "final_overlay_000003.png"};
+  std::map<std::string, std::string> drawn;
+  for (const std::string& p : pictures) {
+    ASSERT_TRUE(fs::exists(out() / "render" / p)) << p;
+    drawn[p] = testing::ReadText(out() / "render" / p);
+  }
+  fs::remove_all(out() / "render");
+  const auto again = testing::RunProcess({CSLAM_BINARY, "render", out().string()}, tmp_.path() / "render_logs");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  for (const std::string& p : pictures)
+    EXPECT_EQ(testing::ReadText(out() / "render" / p), drawn[p]) << p << " is not drawn the same again";
+}
+
+TEST_F(CliOutputs, RenderOfAFolderWithoutAManifestNamesIt) {
+  ASSERT_EQ(Run().exit_code, 0);
+  fs::remove(out() / "cslam_outputs.json");  // as a run of a version before the manifest
+  const auto r = testing::RunProcess({CSLAM_BINARY, "render", out().string()}, tmp_.path() / "render_logs");
+  EXPECT_EQ(r.exit_code, kExitInputError) << r.err;
+  EXPECT_THAT(r.err, HasSubstr((out() / "cslam_outputs.json").string() + ": missing"));
+  EXPECT_TRUE(fs::exists(out() / "render" / "trajectory.png"));  // what needs no input is drawn
 }
 
 }  // namespace
