@@ -91,6 +91,11 @@ std::vector<RenderTrajectory> PathsUpToFrame(const RunOutputs& outputs, int fram
   if (!outputs.gt_camera.empty())
     upto(outputs.gt_camera, origin, {"camera (ground truth)", {}, -1, true});
   upto(outputs.camera, origin, {"camera", {}, -1, false});
+  for (const auto& [id, t] : outputs.gt_objects) {
+    if (!PoseAt(t, frame)) continue;  // labelled objects in view at this frame
+    RenderTrajectory line = GroundTruthObjectLine(outputs, id, frame);
+    if (line.positions.size() >= 2) paths.push_back(std::move(line));
+  }
   for (const auto& [id, c] : ClusterCentroids(outputs)) {
     const Trajectory& t = outputs.clusters.at(id);
     if (!PoseAt(t, frame)) continue;

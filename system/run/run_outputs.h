@@ -6,8 +6,10 @@
 // the very same pictures.
 #include <Eigen/Core>
 #include <map>
+#include <string>
 #include <vector>
 
+#include "system/draw/render_scene.h"
 #include "system/eval/trajectory.h"
 
 namespace cslam {
@@ -33,9 +35,18 @@ struct RunOutputs {
   Trajectory gt_camera;             ///< camera_trajectory_gt.txt; empty without ground truth
   std::map<int, Trajectory> clusters;  ///< objects/<id>.txt by cluster id (frames of the poses)
   std::vector<RunLandmark> landmarks;  ///< clusters.csv
+  /// objects_gt/<id>.txt by ground-truth id (system/run/ground_truth_objects.h); empty without.
+  std::map<int, Trajectory> gt_objects;
+  /// objects_gt/index.csv: each ground-truth object's type and matched cluster (-1: none).
+  std::map<int, std::pair<std::string, int>> gt_object_match;
   /// overlay_keypoints.csv: the keypoints of each final-state overlay frame (by frame).
   std::map<int, std::vector<RunKeypoint>> keypoints;
 };
+
+/// The dashed line of ground-truth object `id` (outputs.gt_objects) up to `last_frame`, in its
+/// matched cluster's colour (grey when no cluster was matched to it): "truth of object C (type,
+/// id N)" or "id N (type), not found".
+RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int last_frame);
 
 /// A moving cluster's landmark centroid in its own frame and how many landmarks it averages.
 struct ClusterCentroid {

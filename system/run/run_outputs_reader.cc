@@ -134,6 +134,17 @@ RunOutputs ReadRunOutputs(const std::string& out_dir) {
                   outputs.landmarks.push_back(l);
                 });
 
+  // The labelled objects' truth: written only for inputs that have it.
+  const std::string gt_index = (out / "objects_gt" / "index.csv").string();
+  if (fs::exists(gt_index, ec))
+    ForEachCsvRow(gt_index, "ground-truth object index", "gt_object,type,first_frame,last_frame,frames,cluster",
+                  [&](const std::vector<std::string>& f, int line) {
+                    const int id = ParseInt(f[0], gt_index, line, "gt_object");
+                    const fs::path file = out / "objects_gt" / (f[0] + ".txt");
+                    outputs.gt_objects[id] = ReadRequiredKitti(file, "true trajectory of object " + f[0]);
+                    outputs.gt_object_match[id] = {f[1], ParseInt(f[5], gt_index, line, "cluster")};
+                  });
+
   // The final-state overlays' keypoints: written only for runs on images.
   const fs::path keypoints = out / "overlay_keypoints.csv";
   if (fs::exists(keypoints, ec)) {

@@ -27,6 +27,8 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
     for (const Pose& p : outputs.gt_camera.poses) gt.positions.push_back(p.translation());
     trajs.push_back(gt);
   }
+  for (const auto& [id, t] : outputs.gt_objects)
+    if (t.size() >= 2) trajs.push_back(GroundTruthObjectLine(outputs, id, t.frames.back()));
   RenderTrajectory cam{"camera", {}, -1, false};
   const Trajectory& camera = outputs.camera;
   for (size_t k = 0; k < camera.size(); ++k) {

@@ -12,6 +12,7 @@
 #include "system/draw/render_scene.h"
 #include "system/render/point_cloud_export.h"
 #include "system/run/final_pictures.h"
+#include "system/run/ground_truth_objects.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
@@ -91,6 +92,33 @@ RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
     WriteTrajectory(t, stem + ".tum", TrajectoryFormat::kTum);
+  }
+
+  // The labelled objects' truth beside the estimate, with the matching metrics.json made
+  // (objects.per_object: gt_object <-> cluster).
+  const std::map<int, GroundTruthObject> truth = GroundTruthObjects(input, result.frames_processed);
+  if (!truth.empty()) {
+    std::map<int, int> matched;
+    if (metrics)
+      for (const RunMetrics::PerObject& o : metrics->objects.per_object)
+        if (o.found && o.cluster) matched[o.gt_object] = *o.cluster;
+    WriteFileAtomically((out / "objects_gt" / "index.csv").string(), [&](std::ostream& o) {
+      o << "gt_object,type,first_frame,last_frame,frames,cluster\n";
+      for (const auto& [id, t] : truth) {
+        if (t.trajectory.empty()) continue;
+        const int cluster = matched.count(id) ? matched.at(id) : -1;
+        outputs.gt_object_match[id] = {t.type, cluster};
+        o << id << "," << t.type << "," << t.trajectory.frames.front() << ","
+          << t.trajectory.frames.back() << "," << t.trajectory.size() << "," << cluster << "\n";
+      }
+    });
+    for (const auto& [id, t] : truth) {
+      if (t.trajectory.empty()) continue;
+      outputs.gt_objects[id] = t.trajectory;
+      const std::string stem = (out / "objects_gt" / std::to_string(id)).string();
+      WriteTrajectory(t.trajectory, stem + ".txt", TrajectoryFormat::kKitti);
+      WriteTrajectory(t.trajectory, stem + ".tum", TrajectoryFormat::kTum);
+    }
   }
 
   std::vector<RenderPoint> cloud;
