@@ -26,5 +26,7 @@ Command AddDemoCommand(CLI::App& app);
 Command AddBenchCommand(CLI::App& app);
 /// `cslam render OUT`: the pictures of a finished run, drawn again from its output files.
 Command AddRenderCommand(CLI::App& app);
+/// `cslam view OUT`: OUT/view.html, the run in one self-contained page.
+Command AddViewCommand(CLI::App& app);
 
 }  // namespace cslam::apps

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
       cslam::apps::AddEvalCommand(app),
       cslam::apps::AddBenchCommand(app),
       cslam::apps::AddRenderCommand(app),
+      cslam::apps::AddViewCommand(app),
   };
 
   try {

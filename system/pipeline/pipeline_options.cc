@@ -56,6 +56,7 @@ void OutputOptions::Load(OptionsReader& r) {
   r.Read("dense_snapshots", &dense_snapshots);
   r.Read("trajectory_plot", &trajectory_plot);
   r.Read("final_pictures", &final_pictures);
+  r.Read("view_page", &view_page);
 }
 
 void PipelineOptions::Check() const {

@@ -96,6 +96,8 @@ struct OutputOptions {
   /// its final outputs at this many frames spread over it (system/run/final_pictures.h); 0 =
   /// none. snapshots_every / overlays_every are the online-state pictures, drawn during the run.
   int final_pictures = 3;
+  /// OUT/view.html: the run in one self-contained page (system/run/view_page.h).
+  bool view_page = true;
   void Check() const;
   void Load(OptionsReader& r);
 };

@@ -16,6 +16,7 @@
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
+#include "system/run/view_page.h"
 
 namespace cslam {
 
@@ -207,11 +208,14 @@ std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
       failed.push_back(name + ": " + e.what());
     }
   };
-  if (!options.output.trajectory_plot) return failed;
-  attempt("render/trajectory.png", [&] {
-    WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
-  });
-  attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
+  if (options.output.trajectory_plot) {
+    attempt("render/trajectory.png", [&] {
+      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
+    });
+    attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
+  }
+  if (options.output.view_page)
+    attempt("view.html", [&] { WriteViewPage(outputs, out_dir); });
   if (input && options.output.final_pictures > 0) {
     for (const std::string& f :
          WriteFinalPictures(outputs, SpreadFrames(outputs.camera.frames, options.output.final_pictures),
