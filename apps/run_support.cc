@@ -12,6 +12,7 @@
 #include "core/errors.h"
 #include "core/logging.h"
 #include "core/options_reader.h"
+#include "core/timer.h"
 #include "system/run/output_folder.h"
 #include "system/run/run_metrics.h"
 #include "system/run/run_trajectories.h"
@@ -204,7 +205,9 @@ int FinishRun(const RunInput& input, const PipelineResult& result, const Pipelin
   std::printf("%s", SummarizeMetrics(metrics).c_str());
   std::fflush(stdout);
   // The pictures come last: whatever happens to them, the results above are on disk.
+  const Timer pictures_timer;
   std::vector<std::string> failed = WriteRunPictures(outputs, result.resources, options, out, &input);
+  log->info("pictures and view.html drawn in {:.2f} s", pictures_timer.ElapsedS());
   if (result.renders.failed > 0)
     failed.push_back(std::to_string(result.renders.failed) + " snapshot(s) or overlay(s) during the run");
   for (const std::string& f : failed) log->error("picture not written: {}", f);

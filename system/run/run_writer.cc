@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/logging.h"
+#include "core/timer.h"
 #include "system/eval/trajectory_io.h"
 #include "system/io/image_io.h"
 #include "system/draw/render_scene.h"
@@ -203,7 +204,9 @@ std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
   std::vector<std::string> failed;
   const auto attempt = [&](const std::string& name, const std::function<void()>& draw) {
     try {
+      const Timer timer;
       draw();
+      GetLogger("system")->debug("{} drawn in {:.3f} s", name, timer.ElapsedS());
     } catch (const std::exception& e) {
       failed.push_back(name + ": " + e.what());
     }
