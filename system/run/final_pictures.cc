@@ -7,7 +7,6 @@
 #include <sstream>
 #include <unordered_map>
 
-#include <opencv2/imgproc.hpp>
 
 #include "system/draw/annotate.h"
 #include "system/draw/cluster_colors.h"
@@ -25,31 +24,17 @@ const Pose* PoseAt(const Trajectory& t, int frame) {
   return &t.poses[it - t.frames.begin()];
 }
 
-std::string Numbered(const std::string& dir, const char* stem, int frame) {
+void PutFrameLabel(cv::Mat& image, int frame) {
+  PutCornerLabel(image, "frame " + std::to_string(frame) + ", final estimate");
+}
+
+}  // namespace
+
+std::string NumberedPngPath(const std::string& dir, const char* stem, int frame) {
   std::ostringstream name;
   name << stem << "_" << std::setw(6) << std::setfill('0') << frame << ".png";
   return (std::filesystem::path(dir) / name.str()).string();
 }
-
-// Top right, where the snapshot's and overlay's own legends (top left) are not, on a white
-// box so it reads on a camera image too.
-void PutFrameLabel(cv::Mat& image, int frame) {
-  const std::string text = "frame " + std::to_string(frame) + ", final estimate";
-  int baseline = 0;
-  const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, 0.7, 1, &baseline);
-  const cv::Point anchor(image.cols - 12, 12 + size.height);
-  cv::rectangle(image, cv::Rect(anchor.x - size.width - 6, 6, size.width + 12, size.height + baseline + 12),
-                cv::Scalar(255, 255, 255), cv::FILLED);
-  PutLabel(image, text, anchor, TextAlign::kRight, 0.7, {20, 20, 20});
-}
-
-std::string ClusterLabel(int cluster) {
-  if (cluster == 0) return "static";
-  if (cluster < 0) return "outlier";
-  return "object " + std::to_string(cluster);
-}
-
-}  // namespace
 
 std::vector<int> SpreadFrames(const std::vector<int>& frames, int count) {
   std::vector<int> out;
@@ -132,13 +117,7 @@ cv::Mat DrawFinalSnapshot(const RunOutputs& outputs, int frame, const StereoCame
 cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& left) {
   const std::vector<OverlayTrack> tracks = FinalOverlayTracks(outputs, frame);
   cv::Mat image = RenderOverlay(left, tracks);
-  std::map<int, int> counts;
-  for (const OverlayTrack& t : tracks) ++counts[std::max(t.cluster, -1)];
-  std::vector<LegendEntry> legend;
-  for (const auto& [cluster, n] : counts)
-    legend.push_back({ClusterLabel(cluster) + " (" + std::to_string(n) + ")",
-                      ColorForCluster(cluster), LegendMarker::kDot});
-  DrawLegend(image, legend, {8, 8});
+  DrawOverlayLegend(image, tracks);
   PutFrameLabel(image, frame);
   return image;
 }
@@ -156,11 +135,11 @@ std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
     }
   };
   for (int f : snapshot_frames)
-    attempt(Numbered(render_dir, "final_snapshot", f),
+    attempt(NumberedPngPath(render_dir, "final_snapshot", f),
             [&] { return DrawFinalSnapshot(outputs, f, camera); });
   if (images)
     for (const auto& [f, keypoints] : outputs.keypoints)
-      attempt(Numbered(render_dir, "final_overlay", f),
+      attempt(NumberedPngPath(render_dir, "final_overlay", f),
               [&] { return DrawFinalOverlay(outputs, f, images->Load(f).left); });
   return failed;
 }

@@ -17,6 +17,9 @@
 
 namespace cslam {
 
+/// `dir`/`stem`_NNNNNN.png: the name of frame N's picture (six digits, as every render).
+std::string NumberedPngPath(const std::string& dir, const char* stem, int frame);
+
 /// `count` frames with a camera pose spread evenly over the run (the middles of `count` equal
 /// stretches); fewer when the trajectory is shorter.
 std::vector<int> SpreadFrames(const std::vector<int>& frames, int count);
