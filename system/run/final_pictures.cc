@@ -7,6 +7,8 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <opencv2/imgproc.hpp>
+
 
 #include "system/draw/annotate.h"
 #include "system/draw/cluster_colors.h"
@@ -26,6 +28,36 @@ const Pose* PoseAt(const Trajectory& t, int frame) {
 
 void PutFrameLabel(cv::Mat& image, int frame) {
   PutCornerLabel(image, "frame " + std::to_string(frame) + ", final estimate");
+}
+
+// The labelled boxes at `frame` as the true camera saw them: their 12 edges, and the truth's id.
+void DrawTrueBoxes(cv::Mat& image, const RunOutputs& outputs, int frame, const StereoCamera& camera) {
+  const Pose* cam = PoseAt(outputs.gt_camera, frame);
+  if (!cam) return;
+  for (const auto& [id, t] : outputs.gt_objects) {
+    const auto size = outputs.gt_object_size.find(id);
+    const Pose* box = PoseAt(t, frame);
+    if (!box || size == outputs.gt_object_size.end() || size->second.minCoeff() <= 0) continue;
+    std::vector<cv::Point> corners;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d half = size->second / 2;
+      const Eigen::Vector3d c((k & 1 ? 1 : -1) * half.x(), (k & 2 ? 1 : -1) * half.y(), (k & 4 ? 1 : -1) * half.z());
+      Eigen::Vector3d x;
+      if (!camera.Project(Eigen::Vector3d(cam->inverse() * (*box * c)), &x, 0.5)) break;
+      corners.emplace_back(static_cast<int>(std::lround(x(0))), static_cast<int>(std::lround(x(1))));
+    }
+    if (corners.size() != 8) continue;  // partly behind the camera
+    const auto match = outputs.gt_object_match.find(id);
+    const int cluster = match == outputs.gt_object_match.end() ? -1 : match->second.second;
+    const cv::Vec3b bgr = cluster >= 1 ? BgrForCluster(cluster) : cv::Vec3b(160, 160, 160);
+    for (int a = 0; a < 8; ++a)
+      for (int bit : {1, 2, 4})
+        if (!(a & bit)) cv::line(image, corners[a], corners[a | bit], cv::Scalar(bgr[0], bgr[1], bgr[2]), 1, cv::LINE_AA);
+    cv::Point top = corners[0];
+    for (const cv::Point& p : corners) top = p.y < top.y ? p : top;
+    PutLabel(image, cluster >= 1 ? "truth of object " + std::to_string(cluster) : "truth " + std::to_string(id) + ", not found", {top.x, std::max(12, top.y - 4)}, TextAlign::kCentre, 0.45,
+             {bgr[2], bgr[1], bgr[0]});
+  }
 }
 
 }  // namespace
@@ -114,9 +146,11 @@ cv::Mat DrawFinalSnapshot(const RunOutputs& outputs, int frame, const StereoCame
   return image;
 }
 
-cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& left) {
+cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& left,
+                         const StereoCamera& camera) {
   const std::vector<OverlayTrack> tracks = FinalOverlayTracks(outputs, frame);
   cv::Mat image = RenderOverlay(left, tracks);
+  DrawTrueBoxes(image, outputs, frame, camera);
   DrawOverlayLegend(image, tracks);
   PutFrameLabel(image, frame);
   return image;
@@ -140,7 +174,7 @@ std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
   if (images)
     for (const auto& [f, keypoints] : outputs.keypoints)
       attempt(NumberedPngPath(render_dir, "final_overlay", f),
-              [&] { return DrawFinalOverlay(outputs, f, images->Load(f).left); });
+              [&] { return DrawFinalOverlay(outputs, f, images->Load(f).left, camera); });
   return failed;
 }
 

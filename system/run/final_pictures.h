@@ -41,9 +41,12 @@ std::vector<OverlayTrack> FinalOverlayTracks(const RunOutputs& outputs, int fram
 cv::Mat DrawFinalSnapshot(const RunOutputs& outputs, int frame, const StereoCamera& camera,
                           const SnapshotOptions& options = {});
 
-/// The overlay of `frame` on `left`, with its frame number and a legend of the clusters drawn
-/// (static, outliers, each object by its id, with its keypoint count).
-cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& left);
+/// The overlay of `frame` on `left`, with its frame number, a legend of the clusters drawn
+/// (static, outliers, each object by its id, with its keypoint count), and the labelled boxes
+/// in view (KITTI), projected from their true pose through the true camera, in the colour of
+/// the object matched to them (grey: none).
+cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& left,
+                         const StereoCamera& camera);
 
 /// Draws and writes the final snapshot of each of `snapshot_frames` and the final overlay of
 /// each frame of outputs.keypoints (`images` may be null: no overlays) into `render_dir`. A

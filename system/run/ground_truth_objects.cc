@@ -42,6 +42,7 @@ std::map<int, GroundTruthObject> GroundTruthObjects(const RunInput& input, int f
       centre.translation() = Eigen::Vector3d(0, 0, box.h / 2);
       GroundTruthObject& o = objects[box.track_id];
       o.type = box.type;
+      o.size = {box.l, box.w, box.h};
       Append(o.trajectory, f, input.timestamps[f], world_from_cam[f] * box.cam_from_box * centre);
     }
   return objects;

@@ -16,6 +16,9 @@ namespace cslam {
 struct GroundTruthObject {
   std::string type;       ///< KITTI: the tracklet's class ("Van"); synthetic: "object"
   Trajectory trajectory;  ///< world_from_object at each labelled frame < frames
+  /// KITTI: the box's length, width, height along its x, y, z (its frame at the box centre);
+  /// zero where the truth has no box (synthetic).
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
 };
 
 /// The labelled moving objects of `input` over its first `frames` frames, by ground-truth id

@@ -39,6 +39,9 @@ struct RunOutputs {
   std::map<int, Trajectory> gt_objects;
   /// objects_gt/index.csv: each ground-truth object's type and matched cluster (-1: none).
   std::map<int, std::pair<std::string, int>> gt_object_match;
+  /// objects_gt/index.csv: each ground-truth object's box size (length, width, height; zero:
+  /// no box), drawn on the overlays.
+  std::map<int, Eigen::Vector3d> gt_object_size;
   /// overlay_keypoints.csv: the keypoints of each final-state overlay frame (by frame).
   std::map<int, std::vector<RunKeypoint>> keypoints;
 };

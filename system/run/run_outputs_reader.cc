@@ -137,12 +137,15 @@ RunOutputs ReadRunOutputs(const std::string& out_dir) {
   // The labelled objects' truth: written only for inputs that have it.
   const std::string gt_index = (out / "objects_gt" / "index.csv").string();
   if (fs::exists(gt_index, ec))
-    ForEachCsvRow(gt_index, "ground-truth object index", "gt_object,type,first_frame,last_frame,frames,cluster",
+    ForEachCsvRow(gt_index, "ground-truth object index", "gt_object,type,first_frame,last_frame,frames,cluster,length,width,height",
                   [&](const std::vector<std::string>& f, int line) {
                     const int id = ParseInt(f[0], gt_index, line, "gt_object");
                     const fs::path file = out / "objects_gt" / (f[0] + ".txt");
                     outputs.gt_objects[id] = ReadRequiredKitti(file, "true trajectory of object " + f[0]);
                     outputs.gt_object_match[id] = {f[1], ParseInt(f[5], gt_index, line, "cluster")};
+                    outputs.gt_object_size[id] = {ParseFinite(f[6], gt_index, line, "length"),
+                                                  ParseFinite(f[7], gt_index, line, "width"),
+                                                  ParseFinite(f[8], gt_index, line, "height")};
                   });
 
   // The final-state overlays' keypoints: written only for runs on images.

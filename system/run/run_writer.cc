@@ -105,13 +105,15 @@ RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
       for (const RunMetrics::PerObject& o : metrics->objects.per_object)
         if (o.found && o.cluster) matched[o.gt_object] = *o.cluster;
     WriteFileAtomically((out / "objects_gt" / "index.csv").string(), [&](std::ostream& o) {
-      o << "gt_object,type,first_frame,last_frame,frames,cluster\n";
+      o << "gt_object,type,first_frame,last_frame,frames,cluster,length,width,height\n";
       for (const auto& [id, t] : truth) {
         if (t.trajectory.empty()) continue;
         const int cluster = matched.count(id) ? matched.at(id) : -1;
         outputs.gt_object_match[id] = {t.type, cluster};
+        outputs.gt_object_size[id] = t.size;
         o << id << "," << t.type << "," << t.trajectory.frames.front() << ","
-          << t.trajectory.frames.back() << "," << t.trajectory.size() << "," << cluster << "\n";
+          << t.trajectory.frames.back() << "," << t.trajectory.size() << "," << cluster << ","
+          << t.size.x() << "," << t.size.y() << "," << t.size.z() << "\n";
       }
     });
     for (const auto& [id, t] : truth) {
