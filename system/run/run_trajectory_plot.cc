@@ -66,7 +66,7 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
     const Trajectory& c = outputs.clusters.at(id);
     // The landmark count and frame span tell an object (hundreds of points, many frames)
     // from a fragment at a glance; the palette repeats every ten clusters.
-    RenderTrajectory t{"cluster " + std::to_string(id) + " (" + std::to_string(n) +
+    RenderTrajectory t{"object " + std::to_string(id) + " (" + std::to_string(n) +
                            " points, frames " + std::to_string(c.frames.front()) + "-" +
                            std::to_string(c.frames.back()) + ")",
                        {}, id, false};
