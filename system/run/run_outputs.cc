@@ -19,9 +19,10 @@ RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int la
   const auto match = outputs.gt_object_match.find(id);
   const std::string type = match == outputs.gt_object_match.end() ? "object" : match->second.first;
   const int cluster = match == outputs.gt_object_match.end() ? -1 : match->second.second;
-  RenderTrajectory line{cluster >= 1 ? "truth of object " + std::to_string(cluster) + " (" + type +
-                                           ", id " + std::to_string(id) + ")"
-                                     : "id " + std::to_string(id) + " (" + type + "), not found",
+  // Synthetic objects have no class: only the id then.
+  const std::string what = type == "object" ? "id " + std::to_string(id) : type + ", id " + std::to_string(id);
+  RenderTrajectory line{cluster >= 1 ? "truth of object " + std::to_string(cluster) + " (" + what + ")"
+                                     : "truth " + what + ", not found",
                         {}, cluster >= 1 ? cluster : kUndrawnClusters, true};
   const Trajectory& t = outputs.gt_objects.at(id);
   for (size_t k = 0; k < t.size() && t.frames[k] <= last_frame; ++k) {

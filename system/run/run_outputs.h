@@ -48,7 +48,7 @@ struct RunOutputs {
 
 /// The dashed line of ground-truth object `id` (outputs.gt_objects) up to `last_frame`, in its
 /// matched cluster's colour (grey when no cluster was matched to it): "truth of object C (type,
-/// id N)" or "id N (type), not found".
+/// id N)" or "truth type, id N, not found" (synthetic objects have no type).
 RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int last_frame);
 
 /// A moving cluster's landmark centroid in its own frame and how many landmarks it averages.
