@@ -213,8 +213,9 @@ var gtL=layer('ground truth (dashed)','#000000',gtObjs);
 var objects=D.objects.map(function(o){
  var pts=points(byCluster[o.id]||[],o.color);pts.matrixAutoUpdate=false;pts.userData.object=o;
  var track=line(o.track,o.color,false);
+ var axes=new THREE.AxesHelper(1.5);axes.matrixAutoUpdate=false;
  var idx={};o.frames.forEach(function(f,k){idx[f]=k;});o.index=idx;
- o.points=pts;o.layer=layer('object '+o.id+' ('+o.landmarks+' points)',o.color,[pts,track]);return o;});
+ o.points=pts;o.axes=axes;o.layer=layer('object '+o.id+' ('+o.landmarks+' points)',o.color,[pts,track,axes]);return o;});
 var lay=document.getElementById('layers');
 layers.forEach(function(L){var lab=document.createElement('label');var cb=document.createElement('input');cb.type='checkbox';cb.checked=true;
  cb.onchange=function(){L.on=cb.checked;update();};lab.appendChild(cb);var sw=document.createElement('span');sw.className='sw';sw.style.background=L.color;
@@ -230,8 +231,9 @@ function update(){
  layers.forEach(function(L){L.objs.forEach(function(o){o.visible=L.on;});});
  var drawn=0;
  if(staticL.on)drawn+=staticL.objs[0].userData.count;if(outL.on)drawn+=outL.objs[0].userData.count;
- objects.forEach(function(o){var k=o.index[f];o.points.visible=o.layer.on&&k!==undefined;
-  if(k!==undefined){o.points.matrix.copy(mat(o.poses,12*k));o.points.matrixWorldNeedsUpdate=true;}
+ objects.forEach(function(o){var k=o.index[f];o.points.visible=o.axes.visible=o.layer.on&&k!==undefined;
+  if(k!==undefined){o.points.matrix.copy(mat(o.poses,12*k));o.points.matrixWorldNeedsUpdate=true;
+   o.axes.matrix.copy(o.points.matrix);o.axes.matrixWorldNeedsUpdate=true;}
   if(o.points.visible)drawn+=o.points.userData.count;});
  var vis=visibleObjects(f).map(function(o){return o.id;});
  document.getElementById('label').textContent='frame '+f+' ('+(cur+1)+' of '+D.frames.length+'), objects in view: '+(vis.length?vis.join(', '):'none');

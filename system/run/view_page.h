@@ -2,8 +2,8 @@
 // OUT/view.html: the whole run in one self-contained page a browser opens with no network and
 // no install. three.js (Debian's libjs-three) is inlined, the run's final outputs are embedded
 // as data: the clustered point cloud, the camera and object trajectories, the ground truth;
-// a frame slider and a play button show the camera, each object's points and pose at a frame
-// and the points observed then; layers switch static points, outliers, each object and the
+// a frame slider and a play button show the camera, each object's points and pose (its axes)
+// at a frame and the points observed then; layers switch static points, outliers, each object and the
 // ground truth; clicking an object shows its id, frames, landmarks and metrics. The page
 // reports its own state (frame, points drawn, objects visible, script errors) in the element
 // #state, which the browser test reads.
