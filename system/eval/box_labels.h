@@ -1,8 +1,11 @@
 #pragma once
 // Ground-truth landmark labels from labelled 3-D boxes (KITTI raw tracklets): a landmark
-// belongs to a moving object when most of its observations back-project inside that object's
-// box in the same frame. Parked vehicles are boxes too, but they do not move: their
-// landmarks stay static (label 0), as the clustering should leave them.
+// belongs to a moving object when, in most of its observations, its keypoint falls inside the
+// box's outline in the image and its stereo depth lies within the box's depth range, each up to
+// its own uncertainty. A box in 3-D with a fixed margin refused a far object's points: at 80 m each
+// point's depth is metres off, so none fell inside and a correct object counted as a false one.
+// Parked vehicles are boxes too, but they do not move: their landmarks stay static (label 0),
+// as the clustering should leave them.
 #include <vector>
 
 #include "core/rigid.h"
@@ -14,7 +17,10 @@ namespace cslam {
 
 /// Options of the box-based labelling.
 struct BoxLabelOptions {
-  double margin_m = 0.3;            ///< box grown by this on every side (depth noise)
+  /// An observation's keypoint and depth may lie this many of their own standard deviations
+  /// (from its keypoint covariance) outside the box's outline and depth range (3: 99.7 % of a
+  /// normal error).
+  double depth_sigmas = 3.0;
   double min_inside_fraction = 0.5; ///< of a landmark's observations, to take the label
   double min_travel_m = 3.0;        ///< an object moving less than this in the world is static
 };

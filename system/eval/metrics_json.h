@@ -33,14 +33,39 @@ struct RunMetrics {
     /// Own Sim(3) alignment; and the error as the camera sees it, which neither the camera's
     /// drift nor the ground truth's world enters (system/eval/object_camera_frame_error.h).
     std::optional<double> ate_sim3_m, camera_frame_rmse_m;
+    /// Motion error per frame (system/eval/object_motion_error.h): means over the object's
+    /// consecutive tracked frames of the rotation (degrees) and translation (metres) error of
+    /// its frame-to-frame motion, the largest rotation error, and how many frame pairs.
+    std::optional<double> me_r_deg, me_t_m, me_max_r_deg;
+    std::optional<int> me_pairs;
+    /// Median distance from the true camera to the true object over its labelled frames (m).
+    std::optional<double> median_distance_m;
     bool found = false;
 
     bool operator==(const PerObject&) const = default;
+  };
+  /// Found objects whose median distance lies in (from_m, to_m] (from 0 inclusive; to_m empty:
+  /// no bound).
+  struct DistanceBand {
+    double from_m = 0;
+    std::optional<double> to_m;
+    int found = 0;
+    std::optional<double> me_r_deg, me_t_m, ate_m;
+
+    bool operator==(const DistanceBand&) const = default;
   };
   /// Object trajectory errors averaged over matched objects, each aligned on its own.
   struct Objects {
     std::optional<double> ate_m, rpe_frame_t_m, rpe_frame_r_rad, rpe_pairs_t_m, rpe_pairs_r_rad;
     std::optional<double> ate_sim3_m, camera_frame_rmse_m;
+    /// Means over found objects of their motion errors (PerObject::me_*), and their medians.
+    std::optional<double> me_r_deg, me_t_m, me_r_deg_median, me_t_m_median;
+    /// The same means by the objects' median distance: ≤ 20 m, 20–40 m, > 40 m.
+    std::vector<DistanceBand> distance_bands;
+    /// Needs no ground truth: the largest rotation between consecutive poses of any reported
+    /// object (degrees), and that object's id and the later frame.
+    std::optional<double> max_frame_rotation_deg;
+    std::optional<int> max_frame_rotation_object, max_frame_rotation_frame;
     std::optional<int> matched, gt;
     /// Objects with at least `eligible_min_landmarks` clusterable landmarks (PerObject::
     /// landmarks), and how many of those were found: the "every object with ≥ 30 tracked
@@ -180,7 +205,25 @@ struct JsonFields<RunMetrics::PerObject> {
       JsonField{"rpe_frame_r_rad", &S::rpe_frame_r_rad},
       JsonField{"rpe_pairs_t_m", &S::rpe_pairs_t_m},
       JsonField{"rpe_pairs_r_rad", &S::rpe_pairs_r_rad},
+      JsonField{"me_r_deg", &S::me_r_deg},
+      JsonField{"me_t_m", &S::me_t_m},
+      JsonField{"me_max_r_deg", &S::me_max_r_deg},
+      JsonField{"me_pairs", &S::me_pairs},
+      JsonField{"median_distance_m", &S::median_distance_m},
       JsonField{"found", &S::found},
+  };
+};
+
+template <>
+struct JsonFields<RunMetrics::DistanceBand> {
+  using S = RunMetrics::DistanceBand;
+  static constexpr auto kFields = std::tuple{
+      JsonField{"from_m", &S::from_m},
+      JsonField{"to_m", &S::to_m},
+      JsonField{"found", &S::found},
+      JsonField{"me_r_deg", &S::me_r_deg},
+      JsonField{"me_t_m", &S::me_t_m},
+      JsonField{"ate_m", &S::ate_m},
   };
 };
 
@@ -195,6 +238,14 @@ struct JsonFields<RunMetrics::Objects> {
       JsonField{"rpe_frame_r_rad", &S::rpe_frame_r_rad},
       JsonField{"rpe_pairs_t_m", &S::rpe_pairs_t_m},
       JsonField{"rpe_pairs_r_rad", &S::rpe_pairs_r_rad},
+      JsonField{"me_r_deg", &S::me_r_deg},
+      JsonField{"me_t_m", &S::me_t_m},
+      JsonField{"me_r_deg_median", &S::me_r_deg_median},
+      JsonField{"me_t_m_median", &S::me_t_m_median},
+      JsonField{"distance_bands", &S::distance_bands},
+      JsonField{"max_frame_rotation_deg", &S::max_frame_rotation_deg},
+      JsonField{"max_frame_rotation_object", &S::max_frame_rotation_object},
+      JsonField{"max_frame_rotation_frame", &S::max_frame_rotation_frame},
       JsonField{"matched", &S::matched},
       JsonField{"gt", &S::gt},
       JsonField{"eligible", &S::eligible},

@@ -1,5 +1,6 @@
 #include "system/eval/trajectory_evaluation.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cslam {
@@ -30,6 +31,22 @@ std::optional<double> MeanOver(const std::vector<RunMetrics::PerObject>& objects
   }
   return sum / n;
 }
+
+// Median over the found objects that have the figure (the mean of the middle two when even).
+std::optional<double> MedianOver(const std::vector<RunMetrics::PerObject>& objects,
+                                 std::optional<double> RunMetrics::PerObject::*field) {
+  std::vector<double> v;
+  for (const auto& o : objects)
+    if (o.found && (o.*field)) v.push_back(*(o.*field));
+  if (v.empty()) return std::nullopt;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// The distance bands of RunMetrics::Objects::distance_bands: near, middle, far.
+const std::pair<double, std::optional<double>> kDistanceBands[] = {
+    {0.0, 20.0}, {20.0, 40.0}, {40.0, std::nullopt}};
 
 }  // namespace
 
@@ -78,6 +95,26 @@ void SummariseObjects(RunMetrics::Objects& objects, int min_landmarks) {
   objects.rpe_frame_r_rad = MeanOver(objects.per_object, &P::rpe_frame_r_rad);
   objects.rpe_pairs_t_m = MeanOver(objects.per_object, &P::rpe_pairs_t_m);
   objects.rpe_pairs_r_rad = MeanOver(objects.per_object, &P::rpe_pairs_r_rad);
+  objects.me_r_deg = MeanOver(objects.per_object, &P::me_r_deg);
+  objects.me_t_m = MeanOver(objects.per_object, &P::me_t_m);
+  objects.me_r_deg_median = MedianOver(objects.per_object, &P::me_r_deg);
+  objects.me_t_m_median = MedianOver(objects.per_object, &P::me_t_m);
+  objects.distance_bands.clear();
+  for (const auto& [from, to] : kDistanceBands) {
+    RunMetrics::DistanceBand band;
+    band.from_m = from;
+    band.to_m = to;
+    std::vector<P> in_band;
+    for (const auto& o : objects.per_object)
+      if (o.found && o.median_distance_m && (from == 0 || *o.median_distance_m > from) &&
+          (!to || *o.median_distance_m <= *to))
+        in_band.push_back(o);
+    band.found = static_cast<int>(in_band.size());
+    band.me_r_deg = MeanOver(in_band, &P::me_r_deg);
+    band.me_t_m = MeanOver(in_band, &P::me_t_m);
+    band.ate_m = MeanOver(in_band, &P::ate_m);
+    objects.distance_bands.push_back(band);
+  }
   int matched = 0, eligible = 0, found_eligible = 0;
   for (const auto& o : objects.per_object) {
     matched += o.found ? 1 : 0;

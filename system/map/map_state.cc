@@ -54,6 +54,7 @@ void MapStateOptions::Check() const {
               "must be positive (seconds between frames)", frame_period_s);
   CheckOption(refine_camera_from >= 0, "refine_camera_from", "must be >= 0 (0: off)",
               refine_camera_from);
+  CheckSection("track", [&] { track.Check(); });
 }
 
 void MapStateOptions::Load(OptionsReader& r) {
@@ -78,6 +79,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("retire_after_frames", &retire_after_frames);
   r.Read("reappearance_max_gap_s", &reappearance_max_gap_s);
   r.Read("reappearance_max_acceleration_mps2", &reappearance_max_acceleration_mps2);
+  r.ReadSection("track", &track);
 }
 
 MapState::MapState(MapStateOptions options) : options_(options) { options_.Check(); }
@@ -184,6 +186,26 @@ void MapState::ReleaseCluster(int id) {
 void MapState::ErasePose(int id, int frame) {
   if (const auto c = clusters_.find(id); id >= 1 && c != clusters_.end())
     c->second.world_from_cluster.erase(frame);
+}
+
+void MapState::ReframeCluster(int id, const Pose& cluster_from_body) {
+  const auto c = clusters_.find(id);
+  if (id < 1 || c == clusters_.end()) return;
+  for (auto& [f, pose] : c->second.world_from_cluster) pose = pose * cluster_from_body;
+  for (auto& [f, poses] : c->second.window_poses)
+    for (Pose& pose : poses) pose = pose * cluster_from_body;
+  const Pose body_from_cluster = cluster_from_body.inverse();
+  for (auto& [l, state] : landmarks_)
+    if (state.cluster == id) state.p_in_cluster = body_from_cluster * state.p_in_cluster;
+  if (const auto r = retired_by_cluster_.find(id); r != retired_by_cluster_.end())
+    for (int l : r->second)
+      if (LandmarkState* state = retired_.Find(l); state && state->cluster == id)
+        state->p_in_cluster = body_from_cluster * state->p_in_cluster;
+}
+
+void MapState::SetTrajectory(int id, std::map<int, Pose> world_from_cluster) {
+  if (const auto c = clusters_.find(id); id >= 1 && c != clusters_.end())
+    c->second.world_from_cluster = std::move(world_from_cluster);
 }
 
 void MapState::SetCameraPose(int frame, const Pose& world_from_cam) {
@@ -500,8 +522,9 @@ void MapState::IntegrateCluster(const MotionEstimate& window, int label, const s
   for (size_t k = 0; k < motion.frames.size(); ++k) {
     // Keep poses already in the map so the published trajectory never changes under a
     // reader's feet; the window only extends it.
-    mc.world_from_cluster.try_emplace(
-        motion.frames[k], map_from_window * motion.world_from_cluster[k] * wincluster_from_mapcluster);
+    const Pose pose = map_from_window * motion.world_from_cluster[k] * wincluster_from_mapcluster;
+    mc.world_from_cluster.try_emplace(motion.frames[k], pose);
+    mc.window_poses[motion.frames[k]].push_back(pose);
   }
   for (int l : ids) Assign(l, map_id, mapcluster_from_wincluster * WindowPoint(window, l));
 }
@@ -559,6 +582,8 @@ void MapState::MergeInto(int older, int younger, const Pose& older_from_younger)
     const Pose younger_from_older = older_from_younger.inverse();
     for (const auto& [f, pose] : clusters_[younger].world_from_cluster)
       o.world_from_cluster.try_emplace(f, pose * younger_from_older);
+    for (const auto& [f, poses] : clusters_[younger].window_poses)
+      for (const Pose& pose : poses) o.window_poses[f].push_back(pose * younger_from_older);
   }
   clusters_.erase(younger);
 }

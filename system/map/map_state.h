@@ -15,6 +15,7 @@
 #include "backend/motion_estimation.h"
 #include "core/options_reader.h"
 #include "core/rigid.h"
+#include "system/map/object_track_options.h"
 
 namespace cslam {
 
@@ -107,6 +108,9 @@ struct MapStateOptions {
   /// ... with at most this acceleration over the gap (m/s²; 3: a road vehicle's, braking or
   /// speeding up hard in town).
   double reappearance_max_acceleration_mps2 = 3.0;
+  /// The reported objects' body frames and smoothed tracks at the end of the run
+  /// (system/map/object_tracks.h; YAML section `map.track`).
+  ObjectTrackOptions track;
   /// Time between frames; the pipeline sets it from the input's timestamps (not a setting).
   double frame_period_s = 0.1;
   void Check() const;
@@ -132,6 +136,10 @@ struct MapCluster {
   int id = -1;
   std::map<int, Pose> world_from_cluster;  ///< frame → pose, ascending frames
   int num_landmarks = 0;                   ///< landmarks currently assigned to it
+  /// Every window's estimate of its pose at each frame, in its own frame (the trajectory holds
+  /// the first): the later windows see a frame with more context on both sides, and the
+  /// end-of-run track fuses them (system/map/object_tracks.h).
+  std::map<int, std::vector<Pose>> window_poses;
   /// Backend windows that found it: window clusters integrated into it, its merged clusters'
   /// included.
   int windows = 0;
@@ -173,6 +181,12 @@ class MapState {
   void ReleaseCluster(int id);
   /// Removes moving cluster `id`'s pose at `frame` (system/map/supported_poses.h).
   void ErasePose(int id, int frame);
+  /// Re-expresses moving cluster `id` in another frame fixed to it: `cluster_from_body` maps
+  /// the new frame into the old one; its poses and landmark positions change, the world
+  /// positions they give do not.
+  void ReframeCluster(int id, const Pose& cluster_from_body);
+  /// Replaces moving cluster `id`'s trajectory (system/map/object_tracks.h).
+  void SetTrajectory(int id, std::map<int, Pose> world_from_cluster);
   /// Integrated windows whose frames overlap [first, last].
   int WindowsCovering(int first, int last) const;
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).

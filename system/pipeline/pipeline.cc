@@ -655,6 +655,21 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
                             candidates - released, candidates, released,
                             options.map.report_min_landmarks, options.map.report_min_frames,
                             options.map.report_min_windows);
+  out.object_tracks = MakeObjectTracks(&out.map, out.table, input.camera, input.timestamps,
+                                       options.map.frame_period_s, options.map.track);
+  if (!out.object_tracks.empty()) {
+    int measured = 0, rejected_positions = 0, rejected_rotations = 0, poses = 0;
+    for (const auto& [id, t] : out.object_tracks) {
+      measured += t.measurements;
+      rejected_positions += t.rejected_positions;
+      rejected_rotations += t.rejected_rotations;
+      poses += static_cast<int>(t.states.size());
+    }
+    GetLogger("system")->info(
+        "object tracks: {} objects, {} poses from {} measured frames; the motion model refused "
+        "{} positions and {} rotations",
+        out.object_tracks.size(), poses, measured, rejected_positions, rejected_rotations);
+  }
   out.total_s = timer.ElapsedS();
   LogStageTimes(out);
   return out;

@@ -16,6 +16,7 @@
 #include "core/tracklet_table.h"
 #include "frontend/stereo_frontend.h"
 #include "system/map/map_state.h"
+#include "system/map/object_tracks.h"
 #include "system/pipeline/frame_renders.h"
 #include "system/pipeline/pipeline_options.h"
 #include "system/runtime/resource_log.h"
@@ -59,6 +60,9 @@ struct PipelineResult {
   /// Resident memory and time every few frames (resources.csv, render/resources.png).
   std::vector<ResourceSample> resources;
   FrameRenderStats renders;  ///< snapshots and overlays written during the run
+  /// The reported objects' smoothed tracks by cluster id (system/map/object_tracks.h): each
+  /// frame's velocity and uncertainty; their poses are the map's.
+  std::map<int, ObjectTrack> object_tracks;
   /// calibration.estimate_disparity_offset: what the self-calibration found and applied.
   std::optional<DisparityOffsetCalibration> disparity_offset;
   /// A failure part-way (e.g. a corrupt image): the run stopped there; everything above is

@@ -12,6 +12,7 @@
 #include "system/eval/clustering_metrics.h"
 #include "system/eval/noise_check.h"
 #include "system/eval/object_camera_frame_error.h"
+#include "system/eval/object_motion_error.h"
 #include "system/eval/trajectory_evaluation.h"
 #include "system/runtime/resource_log.h"
 #include "system/synthetic/synthetic_image_io.h"
@@ -54,6 +55,30 @@ double Median(std::vector<double> v) {
   if (v.empty()) return NAN;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
+}
+
+// An object's motion errors, into `po` (nothing with no consecutive frames).
+void FillMotionError(const std::vector<ObjectFramePoses>& frames, RunMetrics::PerObject* po) {
+  const ObjectMotionError e = ComputeObjectMotionError(frames);
+  if (e.pairs == 0) return;
+  po->me_r_deg = e.me_r_deg;
+  po->me_t_m = e.me_t_m;
+  po->me_max_r_deg = e.max_r_deg;
+  po->me_pairs = e.pairs;
+}
+
+// The largest frame-to-frame rotation of any reported object (no ground truth needed).
+void FillLargestRotation(const RunTrajectories& trajectories, const MapState& map, RunMetrics* m) {
+  for (const auto& [id, c] : map.clusters()) {
+    const auto t = trajectories.clusters.find(id);
+    if (t == trajectories.clusters.end()) continue;
+    const auto r = LargestFrameToFrameRotation(t->second.frames, t->second.poses);
+    if (!r || (m->objects.max_frame_rotation_deg && r->deg <= *m->objects.max_frame_rotation_deg))
+      continue;
+    m->objects.max_frame_rotation_deg = r->deg;
+    m->objects.max_frame_rotation_object = id;
+    m->objects.max_frame_rotation_frame = r->frame;
+  }
 }
 
 void FillClustering(const std::vector<int>& truth, const std::vector<int>& predicted,
@@ -188,7 +213,27 @@ void SyntheticMetrics(const RunInput& input, const PipelineResult& result,
                         seq.world_from_cam[f].inverse() * seq.world_from_object[obj][f]});
       }
       po.camera_frame_rmse_m = Finite(ObjectErrorInCameraFrame(seen, true).rmse_m);
+      std::vector<ObjectFramePoses> motion;
+      for (size_t k = 0; k < est.size(); ++k) {
+        const int f = est.frames[k];
+        const std::optional<Pose> cam = CameraAt(map, f);
+        if (!cam || f >= static_cast<int>(seq.world_from_cam.size())) continue;
+        motion.push_back({f, est.poses[k], *cam, seq.world_from_object[obj][f], seq.world_from_cam[f]});
+      }
+      FillMotionError(motion, &po);
     }
+    // Over the frames where any of its clusterable landmarks is seen.
+    std::vector<char> seen_at(seq.world_from_cam.size(), 0);
+    for (size_t k = 0; k < ids.size(); ++k)
+      if (truth[k] == obj)
+        for (const StereoObservation& o : all_observations.ObservationsOf(ids[k]))
+          if (o.frame < static_cast<int>(seen_at.size())) seen_at[o.frame] = 1;
+    std::vector<double> distances;
+    for (size_t f = 0; f < seen_at.size() && f < seq.world_from_object[obj].size(); ++f)
+      if (seen_at[f])
+        distances.push_back(
+            (seq.world_from_cam[f].inverse() * seq.world_from_object[obj][f].translation()).norm());
+    po.median_distance_m = Finite(Median(distances));
     m->objects.per_object.push_back(po);
   }
   SummariseObjects(m->objects);
@@ -249,6 +294,7 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
         box_track[f] = p;
       const Trajectory& track = trajectories.clusters.at(it->second);
       std::vector<ObjectInCamera> seen;
+      std::vector<ObjectFramePoses> motion;
       Trajectory gt, est;
       for (size_t i = 0; i < track.size(); ++i) {
         const auto b = box_track.find(track.frames[i]);
@@ -267,9 +313,12 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
         const std::optional<Pose> cam = CameraAt(map, track.frames[i]);
         if (!cam) continue;
         for (const ObjectBox& box : input.gt_boxes[track.frames[i]])
-          if (box.track_id == moving[k])
-            seen.push_back({cam->inverse() * e.translation(),
-                            box.cam_from_box * Eigen::Translation3d(0, 0, box.h / 2)});
+          if (box.track_id == moving[k]) {
+            const Pose cam_from_centre = box.cam_from_box * Eigen::Translation3d(0, 0, box.h / 2);
+            seen.push_back({cam->inverse() * e.translation(), cam_from_centre});
+            const Pose& gt_cam = (*input.gt_world_from_cam)[track.frames[i]];
+            motion.push_back({track.frames[i], track.poses[i], *cam, gt_cam * cam_from_centre, gt_cam});
+          }
       }
       if (gt.size() >= 2) {
         po = EvaluateObjectTrajectory(gt, est);
@@ -281,6 +330,7 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
             "box at ({:.2f}, {:.2f}, {:.2f}) m",
             moving[k], in_camera.rmse_m, in_camera.frames, in_camera.point_in_object.x(),
             in_camera.point_in_object.y(), in_camera.point_in_object.z());
+        FillMotionError(motion, &po);
         po.rpe_frame_r_rad.reset();  // positions only: rotations are not compared
         po.rpe_pairs_r_rad.reset();
         po.gt_object = moving[k];
@@ -288,6 +338,11 @@ void KittiRawObjectMetrics(const RunInput& input, const PipelineResult& result,
         po.cluster = it->second;
       }
     }
+    std::vector<double> distances;
+    for (int f = 0; f < result.frames_processed && f < static_cast<int>(input.gt_boxes.size()); ++f)
+      for (const ObjectBox& box : input.gt_boxes[f])
+        if (box.track_id == moving[k]) distances.push_back(box.cam_from_box.translation().norm());
+    po.median_distance_m = Finite(Median(distances));
     m->objects.per_object.push_back(po);
   }
   SummariseObjects(m->objects);
@@ -344,6 +399,7 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
   if (input.gt_world_from_cam && input.gt_cross_check && result.frames_processed > 1)
     m.ground_truth = CheckGroundTruth(input, result, trajectories.camera);
   m.objects.reported = static_cast<int>(result.map.clusters().size());
+  FillLargestRotation(trajectories, result.map, &m);
   if (input.synthetic) SyntheticMetrics(input, result, trajectories, &m);
   if (input.kind == InputKind::kKittiRaw) KittiRawObjectMetrics(input, result, trajectories, &m);
   if (m.objects.gt && *m.objects.gt > 0)
@@ -431,12 +487,30 @@ std::string SummarizeMetrics(const RunMetrics& m) {
               ? ", in the camera frame " + std::to_string(*m.objects.camera_frame_rmse_m) + " m"
               : "")
       << "\n";
+  if (m.objects.me_r_deg) {
+    s << "  object motion per frame: ME_r " << *m.objects.me_r_deg << " deg, ME_t "
+      << m.objects.me_t_m.value_or(NAN) << " m (means over found objects)";
+    for (const RunMetrics::DistanceBand& b : m.objects.distance_bands) {
+      if (b.found == 0) continue;
+      s << "; " << (b.to_m ? (b.from_m == 0 ? "<= " + std::to_string(int(*b.to_m)) + " m"
+                                            : std::to_string(int(b.from_m)) + "-" +
+                                                  std::to_string(int(*b.to_m)) + " m")
+                           : "> " + std::to_string(int(b.from_m)) + " m")
+        << ": " << b.found << " at " << b.me_r_deg.value_or(NAN) << " deg, "
+        << b.me_t_m.value_or(NAN) << " m";
+    }
+    s << "\n";
+  }
   if (m.objects.reported) {
     s << "  reported objects: " << *m.objects.reported;
     if (m.objects.precision)
       s << " (" << m.objects.reported_on_movers.value_or(0) << " on a moving object; static "
         << "landmarks in objects " << std::setprecision(2)
         << 100.0 * m.objects.static_in_objects_fraction.value_or(NAN) << " %)" << std::setprecision(3);
+    if (m.objects.max_frame_rotation_deg)
+      s << "; largest turn between frames " << *m.objects.max_frame_rotation_deg << " deg (object "
+        << m.objects.max_frame_rotation_object.value_or(-1) << " at frame "
+        << m.objects.max_frame_rotation_frame.value_or(-1) << ")";
     s << "\n";
   }
   if (m.noise.static_chi2_per_dof)

@@ -14,6 +14,7 @@
 #include "system/render/point_cloud_export.h"
 #include "system/run/final_pictures.h"
 #include "system/run/ground_truth_objects.h"
+#include "system/run/object_motion_file.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
@@ -94,6 +95,8 @@ RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
     const std::string stem = (out / "objects" / std::to_string(id)).string();
     WriteTrajectory(t, stem + ".txt", TrajectoryFormat::kKitti);
     WriteTrajectory(t, stem + ".tum", TrajectoryFormat::kTum);
+    if (const auto track = result.object_tracks.find(id); track != result.object_tracks.end())
+      WriteObjectMotion(track->second, stem + "_motion.csv");
   }
 
   // The labelled objects' truth beside the estimate, with the matching metrics.json made

@@ -154,7 +154,8 @@ struct FillEveryField {
   void operator()(T& v) {
     if constexpr (JsonDescribed<T>) {
       ForEachJsonField<T>([&](const auto& field) { (*this)(v.*field.member); });
-    } else if constexpr (std::is_same_v<T, std::vector<RunMetrics::PerObject>>) {
+    } else if constexpr (std::is_same_v<T, std::vector<RunMetrics::PerObject>> ||
+                         std::is_same_v<T, std::vector<RunMetrics::DistanceBand>>) {
       v.resize(2);
       for (auto& e : v) (*this)(e);
     } else if constexpr (std::is_same_v<T, std::vector<int>>) {
@@ -164,7 +165,7 @@ struct FillEveryField {
     } else if constexpr (std::is_same_v<T, std::string> ||
                          std::is_same_v<T, std::optional<std::string>>) {
       v = "text " + std::to_string(next++);
-    } else if constexpr (std::is_same_v<T, std::optional<double>>) {
+    } else if constexpr (std::is_same_v<T, std::optional<double>> || std::is_same_v<T, double>) {
       v = next++ + 0.125;
     } else {
       v = next++;  // int and long long, optional or not
@@ -182,10 +183,11 @@ void ExpectEveryKeyWritten(const nlohmann::json& j, const std::string& path) {
     const nlohmann::json& v = j[field.key];
     if constexpr (JsonDescribed<Member>) {
       ExpectEveryKeyWritten<Member>(v, key + ".");
-    } else if constexpr (std::is_same_v<Member, std::vector<RunMetrics::PerObject>>) {
+    } else if constexpr (std::is_same_v<Member, std::vector<RunMetrics::PerObject>> ||
+                         std::is_same_v<Member, std::vector<RunMetrics::DistanceBand>>) {
       ASSERT_TRUE(v.is_array()) << key;
       for (const nlohmann::json& e : v)
-        ExpectEveryKeyWritten<RunMetrics::PerObject>(e, key + "[].");
+        ExpectEveryKeyWritten<typename Member::value_type>(e, key + "[].");
     } else {
       EXPECT_FALSE(v.is_null()) << key;
     }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -101,6 +102,46 @@ TEST(TrajectoryEvaluation, EligibleObjectsAreThoseWithEnoughLandmarks) {
   EXPECT_EQ(objects.eligible, 4);
   EXPECT_EQ(objects.found_eligible, 2);
   EXPECT_EQ(objects.eligible_min_landmarks, 5);
+}
+
+}  // namespace
+}  // namespace cslam
+
+namespace cslam {
+namespace {
+
+TEST(TrajectoryEvaluation, MotionErrorsAreAveragedOverFoundObjectsAndSplitByTheirDistance) {
+  RunMetrics::Objects objects;
+  // (median distance, ME_r, ME_t, found): 20 m belongs to the near band, 40 m to the middle.
+  const std::tuple<double, double, double, bool> rows[] = {
+      {10, 0.2, 0.05, true}, {20, 0.4, 0.07, true}, {25, 1.0, 0.2, true},
+      {40, 3.0, 0.4, true},  {55, 9.0, 1.0, true},  {15, 50.0, 5.0, false}};
+  for (const auto& [d, r, t, found] : rows) {
+    RunMetrics::PerObject o;
+    o.found = found;
+    o.median_distance_m = d;
+    o.me_r_deg = r;
+    o.me_t_m = t;
+    o.ate_m = 2 * t;
+    objects.per_object.push_back(o);
+  }
+  SummariseObjects(objects);
+  EXPECT_NEAR(*objects.me_r_deg, (0.2 + 0.4 + 1.0 + 3.0 + 9.0) / 5, 1e-12);
+  EXPECT_NEAR(*objects.me_t_m, (0.05 + 0.07 + 0.2 + 0.4 + 1.0) / 5, 1e-12);
+  EXPECT_NEAR(*objects.me_r_deg_median, 1.0, 1e-12);
+  EXPECT_NEAR(*objects.me_t_m_median, 0.2, 1e-12);
+  ASSERT_EQ(objects.distance_bands.size(), 3u);
+  const auto& near = objects.distance_bands[0];
+  const auto& middle = objects.distance_bands[1];
+  const auto& far = objects.distance_bands[2];
+  EXPECT_EQ(near.found, 2);
+  EXPECT_NEAR(*near.me_r_deg, 0.3, 1e-12);
+  EXPECT_NEAR(*near.ate_m, 0.12, 1e-12);
+  EXPECT_EQ(middle.found, 2);
+  EXPECT_NEAR(*middle.me_t_m, 0.3, 1e-12);
+  EXPECT_EQ(far.found, 1);
+  EXPECT_FALSE(far.to_m.has_value());
+  EXPECT_NEAR(*far.me_r_deg, 9.0, 1e-12);
 }
 
 }  // namespace

@@ -1,0 +1,100 @@
+#include "system/map/object_tracks.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "core/rigid.h"
+#include "tests/support/cameras.h"
+#include "tests/support/matchers.h"
+#include "tests/support/poses.h"
+
+namespace cslam {
+namespace {
+
+using testing::Translation;
+
+constexpr double kDeg = M_PI / 180.0;
+
+StereoCamera Camera() { return testing::KittiSizedCamera(); }
+
+// One window over frames 0..39: a static camera and a car 25 m ahead driving away at 1 m per
+// frame (10 m/s). The window's cluster frame is the camera's (as a cluster's is where it is
+// first seen); at every fifth frame its pose is flipped by 170° about a vertical axis 10 m in
+// front of the car, its landmarks then 20 m from where they are.
+struct Scene {
+  MapState map;
+  TrackletTable table;
+  std::vector<Pose> world_from_car;  ///< the car's frame: its landmarks' centroid
+  std::vector<int> car_landmarks;
+};
+
+Scene FlippingCar() {
+  Scene s;
+  MotionEstimate e;
+  e.range = {0, 40};
+  ClusterMotion car;
+  car.cluster = 1;
+  const Pose turn(Eigen::AngleAxisd(170 * kDeg, Eigen::Vector3d::UnitY()));
+  for (int f = 0; f < 40; ++f) {
+    e.world_from_cam.push_back(Pose::Identity());
+    const Pose truth = Translation(0, 0, f);  // world_from_cluster
+    s.world_from_car.push_back(Translation(1, 0.5, 25 + f));
+    car.frames.push_back(f);
+    const Pose flip = Translation(1, 0, 15 + f) * turn * Translation(-1, 0, -15 - f);
+    car.world_from_cluster.push_back(f % 5 == 3 ? flip * truth : truth);
+    car.cam_from_cluster.push_back(car.world_from_cluster.back());
+  }
+  e.clusters.push_back(car);
+  const auto add = [&](int cluster, const Eigen::Vector3d& p) {
+    const int l = s.table.NewLandmark();
+    e.landmark_cluster.push_back(cluster);
+    e.landmark_in_cluster.push_back(p);
+    for (int f = 0; f < 40; ++f) s.table.Add(l, f, Eigen::Vector3d(600, 180, 590), Eigen::Matrix3d::Identity());
+    return l;
+  };
+  for (int i = 0; i < 10; ++i) add(0, Eigen::Vector3d(i - 5.0, 1, 20 + i));
+  // Twelve points on a 1.8 × 1.4 × 1.6 m box around (1, 0.5, 25): centroid exactly there.
+  for (double x : {-0.9, 0.9})
+    for (double y : {-0.7, 0.7})
+      for (double z : {-0.8, 0.0, 0.8}) s.car_landmarks.push_back(add(1, Eigen::Vector3d(1 + x, 0.5 + y, 25 + z)));
+  s.map.Integrate(e);
+  return s;
+}
+
+TEST(ObjectTracks, AnObjectsFrameSitsAtItsCentroidWithTheWorldsAxesAndItsPointsStayPut) {
+  Scene s = FlippingCar();
+  const Eigen::Vector3d before = *s.map.WorldPosition(s.car_landmarks[4], 2);
+  ObjectTrackOptions options;
+  options.smooth = false;
+  EXPECT_TRUE(MakeObjectTracks(&s.map, s.table, Camera(), {}, 0.1, options).empty());
+  const MapCluster& car = s.map.clusters().at(1);
+  EXPECT_TRUE(testing::PoseNear(car.world_from_cluster.at(0), s.world_from_car[0], 1e-9, 1e-9));
+  EXPECT_TRUE(testing::PoseNear(car.world_from_cluster.at(2), s.world_from_car[2], 1e-9, 1e-9));
+  EXPECT_LT((*s.map.WorldPosition(s.car_landmarks[4], 2) - before).norm(), 1e-9);
+  EXPECT_LT(s.map.PositionInCluster(s.car_landmarks[0])->norm(), 1.5);  // near the origin now
+  // Unsmoothed, the flipped frame is still 20 m off.
+  EXPECT_GT((car.world_from_cluster.at(3).translation() - s.world_from_car[3].translation()).norm(), 19);
+}
+
+TEST(ObjectTracks, FlippedWindowPosesGiveWayToATrackTheCarCouldDrive) {
+  Scene s = FlippingCar();
+  const std::map<int, ObjectTrack> tracks = MakeObjectTracks(&s.map, s.table, Camera(), {}, 0.1, {});
+  ASSERT_EQ(tracks.count(1), 1u);
+  const ObjectTrack& track = tracks.at(1);
+  EXPECT_EQ(track.measurements, 40);
+  EXPECT_EQ(track.rejected_rotations, 8);  // frames 3, 8, …, 38
+  EXPECT_EQ(track.rejected_positions, 8);
+  const MapCluster& car = s.map.clusters().at(1);
+  ASSERT_EQ(car.world_from_cluster.size(), 40u);
+  for (const auto& [f, pose] : car.world_from_cluster) {
+    EXPECT_LT((pose.translation() - s.world_from_car[f].translation()).norm(), 0.05) << f;
+    EXPECT_LT(RotationAngle(pose.linear()), 0.5 * kDeg) << f;
+  }
+  EXPECT_NEAR(track.states[20].velocity.z(), 10, 0.1);
+  EXPECT_FALSE(track.states[3].measured);
+  EXPECT_TRUE(track.states[4].measured);
+}
+
+}  // namespace
+}  // namespace cslam
