@@ -28,6 +28,7 @@
 #include "system/run/bench_report.h"
 #include "system/run/bench_suite.h"
 #include "core/atomic_file.h"
+#include "system/run/output_folder.h"
 #include "system/run/run_executor.h"
 #include "system/run/slurm_executor.h"
 #include "system/run/suite_manifest.h"
@@ -128,7 +129,7 @@ int BenchSynthetic(BenchArgs& args) {
   report.options = o;
   report.methods = o.SelectedMethods();
 
-  PrepareOutputFolder(args.out);
+  CreateWritableFolder(args.out);
   LogToFileOnly(args.out + "/bench.log");
   auto log = GetLogger("app");
 
@@ -273,7 +274,7 @@ int BenchSuiteManifest(BenchArgs& args) {
   slurm.wait = args.slurm_wait;
   slurm.Check();
   const std::string program = OwnProgramPath();
-  PrepareOutputFolder(args.out);
+  CreateWritableFolder(args.out);
   LogToFileOnly(args.out + "/bench.log");
   auto log = GetLogger("app");
   log->info("bench: suite {}: {} runs, {} external trajectories, executor {}", manifest.file,

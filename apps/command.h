@@ -28,5 +28,7 @@ Command AddBenchCommand(CLI::App& app);
 Command AddRenderCommand(CLI::App& app);
 /// `cslam calib check INPUT`: does a rig's calibration rectify its images (docs/own_rig.md).
 Command AddCalibCommand(CLI::App& app);
+/// `cslam view OUT`: OUT/view.html, the run in one self-contained page.
+Command AddViewCommand(CLI::App& app);
 
 }  // namespace cslam::apps

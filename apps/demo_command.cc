@@ -30,9 +30,13 @@ int Demo(const DemoArgs& args) {
   synth.seed = args.seed;
   synth.frames = args.frames;
   synth.Check();
-  PrepareOutputFolder(args.out);
-  AttachLogFile(args.out + "/run.log");
+  QuietConsole(args.flags.verbose);
   const std::string sequence_dir = args.out + "/sequence";
+  RunInput planned;  // what the manifest records: the sequence the demo is about to write
+  planned.path = sequence_dir;
+  planned.kind = args.no_images ? InputKind::kSynthetic : InputKind::kSyntheticImages;
+  PrepareRunFolder(args.out, "demo", planned, args.flags);
+  AttachLogFile(args.out + "/run.log");
   const SyntheticSequence seq = GenerateSynthetic(synth);
   WriteSynthetic(seq, sequence_dir);
   std::printf("demo: generated %s (%d frames, %d landmarks, %d moving cars) in %s\n",
@@ -55,11 +59,12 @@ int Demo(const DemoArgs& args) {
   if (args.flags.overlays_every < 0) options.output.overlays_every = 10;
   options.out_dir = args.out;
   options.painter = std::make_shared<OffscreenFramePainter>();
-  GetLogger("app")->info("effective configuration:\n{}", options.ToYaml());
+  PrintRunHeader(input, options, args.out);
   StopFlag stop;
   ProgressBar bar("frames", args.flags.progress);
-  PipelineResult result =
-      RunPipeline(input, options, stop.flag(), [&](int done, int total) { bar.Update(done, total); });
+  PipelineResult result = RunPipeline(input, options, stop.flag(), [&](int done, int total, int objects) {
+    bar.Update(done, total, objects);
+  });
   bar.Finish();
   const int code = FinishRun(input, result, options, args.out, stop);
   std::printf("images: %s/render/trajectory.png", args.out.c_str());

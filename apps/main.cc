@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
       cslam::apps::AddBenchCommand(app),
       cslam::apps::AddRenderCommand(app),
       cslam::apps::AddCalibCommand(app),
+      cslam::apps::AddViewCommand(app),
   };
 
   try {

@@ -32,6 +32,7 @@ struct RunArgs {
 };
 
 int Run(const RunArgs& args) {
+  QuietConsole(args.flags.verbose);
   auto log = GetLogger("app");
   InputOptions input_options = args.flags.InputOptionsFor();
   input_options.calib = args.calib;
@@ -51,18 +52,17 @@ int Run(const RunArgs& args) {
   options.out_dir = out;
   options.painter = std::make_shared<OffscreenFramePainter>();
   // The output folder is created only once the input and the configuration are known good.
-  PrepareOutputFolder(out);
+  PrepareRunFolder(out, "run", input, args.flags);
   AttachLogFile(out + "/run.log");
   for (const auto& [name, text] : input.description_files)
     WriteFileAtomically(out + "/" + name, [&](std::ostream& s) { s << text; });
-  log->info("{} ({}, {} frames) → {}", input.path, NameOf(kInputKindNames, input.kind), input.num_frames(), out);
-  log->info("configuration: {}", options.source);
-  log->info("effective configuration:\n{}", options.ToYaml());
+  PrintRunHeader(input, options, out);
 
   StopFlag stop;
   ProgressBar bar("frames", args.flags.progress);
-  PipelineResult result =
-      RunPipeline(input, options, stop.flag(), [&](int done, int total) { bar.Update(done, total); });
+  PipelineResult result = RunPipeline(input, options, stop.flag(), [&](int done, int total, int objects) {
+    bar.Update(done, total, objects);
+  });
   bar.Finish();
   return FinishRun(input, result, options, out, stop);
 }

@@ -6,7 +6,9 @@ PKGS=(build-essential cmake ninja-build pkg-config
       libspdlog-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libtinyxml2-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       clang libclang-rt-dev llvm   # sanitizers, libFuzzer, llvm-symbolizer (scripts/sanitize.sh, fuzz.sh)
-      slurm-wlm munge)             # a single-node Slurm for the suite test (scripts/slurm-local.sh)
+      slurm-wlm munge              # a single-node Slurm for the suite test (scripts/slurm-local.sh)
+      libjs-three                  # three.js, inlined into each run's view.html (system/run/view_page.h)
+      chromium)                    # headless browser of the view.html test (tests/apps/cli_view_test.cc)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

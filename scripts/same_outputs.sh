@@ -34,7 +34,7 @@ case "${1:-}" in
   diff) compare "$2" "$3" ;;
   run)
     bin="$(realpath "$2")"; out="$3"; mkdir -p "$out"
-    flags=(--sequential --no-progress --snapshots-every 0 --overlays-every 0)
+    flags=(--sequential --no-progress --snapshots-every 0 --overlays-every 0 --overwrite)
     for s in "outdoor 1" "indoor 2"; do
       set -- $s
       [ -d "$out/input_$1$2" ] || "$bin" synth --preset "$1" --seed "$2" --out "$out/input_$1$2" >/dev/null 2>&1

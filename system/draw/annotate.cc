@@ -32,6 +32,16 @@ void PutLabel(cv::Mat& image, const std::string& text, cv::Point anchor, TextAli
   cv::putText(image, text, origin, kFont, scale, Bgr(rgb), 1, cv::LINE_AA);
 }
 
+void PutCornerLabel(cv::Mat& image, const std::string& text) {
+  constexpr double kScale = 0.7;
+  int baseline = 0;
+  const cv::Size size = cv::getTextSize(text, kFont, kScale, 1, &baseline);
+  const cv::Point anchor(image.cols - 12, 12 + size.height);
+  cv::rectangle(image, cv::Rect(anchor.x - size.width - 6, 6, size.width + 12, size.height + baseline + 12),
+                cv::Scalar(255, 255, 255), cv::FILLED);
+  PutLabel(image, text, anchor, TextAlign::kRight, kScale, {20, 20, 20});
+}
+
 cv::Size LegendSize(const std::vector<LegendEntry>& entries) {
   int text_width = 0;
   for (const auto& e : entries) {

@@ -24,6 +24,10 @@ enum class TextAlign { kLeft, kCentre, kRight };
 void PutLabel(cv::Mat& image, const std::string& text, cv::Point anchor, TextAlign align,
               double scale = 0.5, const cv::Vec3b& rgb = {50, 50, 50});
 
+/// Writes `text` on a white box in the top-right corner (a picture's frame number: it reads on
+/// a camera image too, and stays clear of the legends drawn top-left).
+void PutCornerLabel(cv::Mat& image, const std::string& text);
+
 /// Pixel size of the legend box DrawLegend draws for `entries`.
 cv::Size LegendSize(const std::vector<LegendEntry>& entries);
 

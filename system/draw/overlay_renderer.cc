@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 #include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
+#include "system/draw/annotate.h"
 #include "system/draw/cluster_colors.h"
 
 namespace cslam {
@@ -66,6 +69,17 @@ cv::Mat RenderOverlay(const cv::Mat& left_grey, const std::vector<OverlayTrack>&
                kSubpixelBits);
   }
   return image;
+}
+
+void DrawOverlayLegend(cv::Mat& image, const std::vector<OverlayTrack>& tracks) {
+  std::map<int, int> counts;
+  for (const OverlayTrack& t : tracks) ++counts[std::max(t.cluster, -1)];
+  std::vector<LegendEntry> legend;
+  for (const auto& [cluster, n] : counts) {
+    const std::string name = cluster == 0 ? "static" : cluster < 0 ? "outlier" : "object " + std::to_string(cluster);
+    legend.push_back({name + " (" + std::to_string(n) + ")", ColorForCluster(cluster), LegendMarker::kDot});
+  }
+  DrawLegend(image, legend, {8, 8});
 }
 
 }  // namespace cslam

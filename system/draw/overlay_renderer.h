@@ -14,4 +14,8 @@ namespace cslam {
 /// static and unclustered tracks. `left_grey` may be CV_8UC1 or CV_8UC3 (BGR).
 cv::Mat RenderOverlay(const cv::Mat& left_grey, const std::vector<OverlayTrack>& tracks);
 
+/// Draws, top left, a legend of the clusters of `tracks` with their keypoint counts: "static",
+/// "outlier", and "object <id>" with the id of objects/index.csv.
+void DrawOverlayLegend(cv::Mat& image, const std::vector<OverlayTrack>& tracks);
+
 }  // namespace cslam

@@ -3,11 +3,13 @@
 #include <malloc.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <ctime>
 #include <exception>
 #include <limits>
 #include <optional>
+#include <set>
 #include <thread>
 #include <vector>
 
@@ -159,8 +161,9 @@ class BackendStage {
     // follows what it holds, not the sum of its peaks' fragments.
     malloc_trim(0);
     timer.Reset();
-    if (renders_.enabled())
-      renders_.AfterWindow(map_, ReportedClusters(map_, options_.map), window_table, range, ids);
+    const std::set<int> reported = ReportedClusters(map_, options_.map);
+    objects_ = static_cast<int>(reported.size());
+    if (renders_.enabled()) renders_.AfterWindow(map_, reported, window_table, range, ids);
     stats.render_ms = timer.ElapsedMs();
     GetLogger("system")->info("window {}..{} integrated: {} moving clusters{}", range.begin,
                               range.end - 1, stats.clusters,
@@ -170,6 +173,8 @@ class BackendStage {
   }
 
   MapState& map() { return map_; }
+  /// Objects the map would report after the last window (read by the frontend's progress).
+  int objects() const { return objects_.load(); }
   std::optional<BackendResult>& last_result() { return last_result_; }
   FrameRenderStats FinishRenders() { return renders_.Finish(); }
 
@@ -181,6 +186,7 @@ class BackendStage {
   FrameRenders renders_;
   CoreReservation* reservation_;
   std::optional<BackendResult> last_result_;
+  std::atomic<int> objects_{0};
 };
 
 // Frames between two samples of resident memory and time (resources.csv).
@@ -260,7 +266,8 @@ FrameItem ReadFrame(const RunInput& input, int index, double* read_ms, double* r
 // `out`: what was tracked before it is kept). Returns the milliseconds spent decoding.
 double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
                     const ProgressCallback& progress, TrackingStage* tracking,
-                    PipelineResult* out, const std::function<void(int)>& after_frame) {
+                    PipelineResult* out, const std::function<void(int)>& after_frame,
+                    const std::function<int()>& objects = {}) {
   const int n = input.num_frames();
   double read_ms = 0, read_cpu_ms = 0;
   ResourceSampler sampler(kResourceSampleEvery);
@@ -281,7 +288,7 @@ double TrackInOrder(const RunInput& input, const std::atomic<bool>* stop,
     out->frames_processed = f + 1;
     if (after_frame) after_frame(f);
     sampler.AfterFrame(f + 1);
-    if (progress) progress(f + 1, n);
+    if (progress) progress(f + 1, n, objects ? objects() : 0);
   }
   sampler.Finish(out->frames_processed);
   out->resources = std::move(sampler.samples());
@@ -378,7 +385,7 @@ PipelineResult RunOnlineSequential(const RunInput& input, const PipelineOptions&
   const double read_ms = TrackInOrder(input, stop, progress, &tracking, &out, [&](int f) {
     for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) run_window(w);
     tracking.ForgetOld(f);
-  });
+  }, [&] { return backend.objects(); });
   if (!out.interrupted)
     if (auto w = windows.Final(out.frames_processed)) run_window(*w);
   out.read_ms_per_frame = out.frames_processed ? read_ms / out.frames_processed : 0;
@@ -433,7 +440,7 @@ PipelineResult RunOnlineThreaded(const RunInput& input, const PipelineOptions& o
         if (auto s = tracking.Process(f, item->images ? &*item->images : nullptr))
           out.frontend_frames.push_back(*s);
         out.frames_processed = f + 1;
-        if (progress) progress(f + 1, n);
+        if (progress) progress(f + 1, n, backend.objects());
         for (const FrameRange& w : windows.AfterFrame(tracking.table(), f)) {
           WindowJob job(tracking.table(), w, CompactWindows(options));
           if (online.realtime) {

@@ -70,8 +70,9 @@ struct PipelineResult {
   std::exception_ptr error;
 };
 
-/// Called after each frame with (frames done, frames total); for progress bars.
-using ProgressCallback = std::function<void(int, int)>;
+/// Called after each frame with (frames done, frames total, objects the map would report so
+/// far); for progress bars. Batch runs report no objects until the end (0).
+using ProgressCallback = std::function<void(int, int, int)>;
 
 /// The backend call of one window (RunBackend unless a test injects a fault). The prior is
 /// the map's for online ClusterSLAM windows (null for batch runs, the baselines, the first

@@ -46,6 +46,8 @@ void BatchOptions::Load(OptionsReader& r) {
 void OutputOptions::Check() const {
   CheckOption(snapshots_every >= 0, "snapshots_every", "must be >= 0 (0 = off)", snapshots_every);
   CheckOption(overlays_every >= 0, "overlays_every", "must be >= 0 (0 = off)", overlays_every);
+  CheckOption(final_pictures >= 0 && final_pictures <= 100, "final_pictures",
+              "must be in [0, 100] (0 = off)", final_pictures);
 }
 
 void OutputOptions::Load(OptionsReader& r) {
@@ -53,6 +55,8 @@ void OutputOptions::Load(OptionsReader& r) {
   r.Read("overlays_every", &overlays_every);
   r.Read("dense_snapshots", &dense_snapshots);
   r.Read("trajectory_plot", &trajectory_plot);
+  r.Read("final_pictures", &final_pictures);
+  r.Read("view_page", &view_page);
 }
 
 void PipelineOptions::Check() const {

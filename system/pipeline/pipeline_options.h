@@ -92,6 +92,12 @@ struct OutputOptions {
   int overlays_every = 0;      ///< render/overlay_NNNNNN.png every N frames; 0 = none
   bool dense_snapshots = false;  ///< snapshots also show SGBM points clustered by landmark
   bool trajectory_plot = true;   ///< render/trajectory.png
+  /// render/final_snapshot_NNNNNN.png and final_overlay_NNNNNN.png, drawn after the run from
+  /// its final outputs at this many frames spread over it (system/run/final_pictures.h); 0 =
+  /// none. snapshots_every / overlays_every are the online-state pictures, drawn during the run.
+  int final_pictures = 3;
+  /// OUT/view.html: the run in one self-contained page (system/run/view_page.h).
+  bool view_page = true;
   void Check() const;
   void Load(OptionsReader& r);
 };

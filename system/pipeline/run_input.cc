@@ -109,6 +109,32 @@ void UseSyntheticTruthOfARig(const std::string& path, int max_frames, RunInput* 
   GetLogger("system")->info("{}: rectified back to the rendered camera; scored on the synthetic truth of {}", path, dir);
 }
 
+bool HasImages(const fs::path& drive, const char* camera) {
+  std::error_code ec;
+  return fs::is_directory(drive / camera / "data", ec);
+}
+
+// Which pair of a KITTI raw drive to read: the one asked for, else the other when it is the
+// only one there (a drive downloaded as colour only).
+bool ChooseKittiRawPair(const std::string& path, bool color, std::vector<std::string>* notes) {
+  const fs::path drive(path);
+  const bool grey_pair = HasImages(drive, "image_00") && HasImages(drive, "image_01");
+  const bool color_pair = HasImages(drive, "image_02") && HasImages(drive, "image_03");
+  if (!grey_pair && !color_pair)
+    throw InputError(path, "has no complete stereo pair: expected image_00/data and "
+                           "image_01/data (grey) or image_02/data and image_03/data (colour)");
+  if (color && !color_pair)
+    throw InputError((drive / "image_02").string() + ", " + (drive / "image_03").string(),
+                     "the colour pair was asked for (--cameras color or input.color) but is "
+                     "missing; the drive has the grey pair image_00/01 (--cameras grey)");
+  if (!color && !grey_pair) {
+    notes->push_back(path + ": no grey pair (image_00/01); running on the colour pair "
+                            "image_02/03, converted to grey");
+    return true;
+  }
+  return color;
+}
+
 }  // namespace
 
 RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
@@ -142,7 +168,9 @@ RunInput OpenRunInput(const std::string& path, const InputOptions& options) {
     in.synthetic = std::move(seq);
     return in;
   }
-  std::unique_ptr<StereoSource> src = OpenStereoSource(path, {options.color, options.calib, options.gt});
+  in.color = kind == DatasetKind::kKittiRaw ? ChooseKittiRawPair(path, options.color, &in.notes)
+                                            : options.color;
+  std::unique_ptr<StereoSource> src = OpenStereoSource(path, {in.color, options.calib, options.gt});
   if (options.max_frames > 0 && options.max_frames < src->size())
     src = std::make_unique<TruncatedSource>(std::move(src), options.max_frames);
   if (src->size() == 0) throw InputError(path, "contains no stereo frames");

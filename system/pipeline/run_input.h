@@ -53,6 +53,10 @@ struct RunInput {
   std::optional<GroundTruthCrossCheck> gt_cross_check; ///< the ground truth's own second estimate
   /// (name, text) files the run writes to say how it read the input (rig.yaml, rectified.yaml).
   std::vector<std::pair<std::string, std::string>> description_files;
+  bool color = false;  ///< KITTI raw: the colour pair image_02/03 is the one read
+  /// What opening decided on its own (the colour pair of a drive without the grey one), for
+  /// the run's log: the input is opened before the log file exists.
+  std::vector<std::string> notes;
 
   int num_frames() const { return static_cast<int>(timestamps.size()); }
   bool has_images() const { return images != nullptr; }
@@ -71,7 +75,9 @@ struct InputOptions {
   void Load(OptionsReader& r);
 };
 
-/// Recognises the kind of `path` and opens it. Throws InputError naming the file and what
+/// Recognises the kind of `path` and opens it. A KITTI raw drive with only the colour pair
+/// (image_02/03) is read from it whatever options.color says (RunInput::color, and the log,
+/// say so); one with neither complete pair is an InputError naming the four folders. Throws InputError naming the file and what
 /// was expected when it is none of the known kinds or is malformed.
 RunInput OpenRunInput(const std::string& path, const InputOptions& options);
 

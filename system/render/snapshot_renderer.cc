@@ -25,7 +25,7 @@ constexpr int kLegendMargin = 12;  // px from the picture's corner
 std::string ClusterName(int cluster) {
   if (cluster < 0) return "outlier";
   if (cluster == 0) return "static";
-  return "cluster " + std::to_string(cluster);
+  return "object " + std::to_string(cluster);
 }
 
 /// Draws points grouped by cluster: unclustered first, then static, then moving clusters.

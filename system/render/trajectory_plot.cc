@@ -250,8 +250,9 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
   gl::DrawLines(grid, {.rgb = kGridRgb, .width_px = float(ss)});
   gl::DrawLines(axes, {.rgb = kAxisRgb, .width_px = float(ss)});
 
-  // Ground truth first so the estimates stay on top.
-  for (bool dashed_pass : {true, false}) {
+  // Ground truth last, dashed: where an estimate lies on it (a good one does) the truth stays
+  // visible and the estimate shows through its gaps; drawn first it vanished under the line.
+  for (bool dashed_pass : {false, true}) {
     for (const auto& t : trajectories) {
       if (t.dashed != dashed_pass || t.positions.empty()) continue;
       const gl::LineStyle style{.rgb = TrajectoryColor(t.cluster),

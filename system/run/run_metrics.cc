@@ -390,8 +390,12 @@ RunMetrics ComputeRunMetrics(const RunInput& input, const PipelineResult& result
                   : "/" + NameOf(kAblationNames, options.ablation)) +
              " (" + NameOf(kRunModeNames, options.mode) + ")";
   if (input.gt_world_from_cam && result.frames_processed > 1) {
-    const Trajectory gt =
-        GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps, result.frames_processed);
+    // Up to the last frame with an estimate: after a stop the frames read since the last
+    // window have none, and the ground truth's path length must cover what the estimate does.
+    const int estimated = trajectories.camera.frames.empty() ? result.frames_processed
+                                                             : trajectories.camera.frames.back() + 1;
+    const Trajectory gt = GroundTruthTrajectory(*input.gt_world_from_cam, input.timestamps,
+                                                std::min(result.frames_processed, estimated));
     m.camera = EvaluateCameraTrajectory(gt, trajectories.camera);
   }
   if (input.gt_world_from_cam && input.gt_cross_check && result.frames_processed > 1)

@@ -133,6 +133,41 @@ RunOutputs ReadRunOutputs(const std::string& out_dir) {
                                      "cluster " + f[1] + " has no trajectory in " + index);
                   outputs.landmarks.push_back(l);
                 });
+
+  // The labelled objects' truth: written only for inputs that have it.
+  const std::string gt_index = (out / "objects_gt" / "index.csv").string();
+  if (fs::exists(gt_index, ec))
+    ForEachCsvRow(gt_index, "ground-truth object index", "gt_object,type,first_frame,last_frame,frames,cluster,length,width,height",
+                  [&](const std::vector<std::string>& f, int line) {
+                    const int id = ParseInt(f[0], gt_index, line, "gt_object");
+                    const fs::path file = out / "objects_gt" / (f[0] + ".txt");
+                    outputs.gt_objects[id] = ReadRequiredKitti(file, "true trajectory of object " + f[0]);
+                    outputs.gt_object_match[id] = {f[1], ParseInt(f[5], gt_index, line, "cluster")};
+                    outputs.gt_object_size[id] = {ParseFinite(f[6], gt_index, line, "length"),
+                                                  ParseFinite(f[7], gt_index, line, "width"),
+                                                  ParseFinite(f[8], gt_index, line, "height")};
+                  });
+
+  // The final-state overlays' keypoints: written only for runs on images.
+  const fs::path keypoints = out / "overlay_keypoints.csv";
+  if (fs::exists(keypoints, ec)) {
+    const std::string file = keypoints.string();
+    ForEachCsvRow(file, "overlay keypoints", "frame,landmark,step,u,v",
+                  [&](const std::vector<std::string>& f, int line) {
+                    const int frame = ParseInt(f[0], file, line, "frame");
+                    const int landmark = ParseInt(f[1], file, line, "landmark");
+                    const int step = ParseInt(f[2], file, line, "step");
+                    std::vector<RunKeypoint>& at = outputs.keypoints[frame];
+                    if (step == 0) at.push_back({landmark, {}});
+                    if (at.empty() || at.back().landmark != landmark ||
+                        static_cast<int>(at.back().trail.size()) != step)
+                      throw InputError(file, line, "expected step " +
+                                                       std::to_string(at.empty() ? 0 : at.back().trail.size()) +
+                                                       " of landmark " + f[1] + "'s trail");
+                    at.back().trail.emplace_back(ParseFinite(f[3], file, line, "u"),
+                                                 ParseFinite(f[4], file, line, "v"));
+                  });
+  }
   return outputs;
 }
 

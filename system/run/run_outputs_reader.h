@@ -1,8 +1,8 @@
 #pragma once
 // Reads back what a finished `cslam run` (or `cslam demo`) wrote into its output folder
 // (docs/usage.md), as far as the pictures need it: camera_trajectory.txt (required),
-// camera_trajectory_gt.txt (when present), objects/index.csv with objects/<id>.txt, and
-// clusters.csv.
+// camera_trajectory_gt.txt (when present), objects/index.csv with objects/<id>.txt,
+// clusters.csv, and overlay_keypoints.csv (when present).
 #include <string>
 
 #include "system/run/run_outputs.h"

@@ -27,6 +27,8 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
     for (const Pose& p : outputs.gt_camera.poses) gt.positions.push_back(p.translation());
     trajs.push_back(gt);
   }
+  for (const auto& [id, t] : outputs.gt_objects)
+    if (t.size() >= 2) trajs.push_back(GroundTruthObjectLine(outputs, id, t.frames.back()));
   RenderTrajectory cam{"camera", {}, -1, false};
   const Trajectory& camera = outputs.camera;
   for (size_t k = 0; k < camera.size(); ++k) {
@@ -42,28 +44,15 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
   double plot_radius_m = 100.0;
   for (const auto& p : cam.positions)
     if (p.allFinite()) plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
-  // Draw each cluster's landmark centroid rather than its frame origin, which can lie
-  // anywhere (it is the camera frame at the cluster's first sighting). The landmarks are
-  // brought back into their cluster's frame by the pose that placed them in the world
-  // (PlacingPoseIndex); one pass over them gathers every cluster's centroid.
-  std::map<int, std::pair<Eigen::Vector3d, int>> centroids;
-  for (const RunLandmark& l : outputs.landmarks) {
-    if (l.cluster < 1) continue;
-    const auto c = outputs.clusters.find(l.cluster);
-    if (c == outputs.clusters.end()) continue;
-    const int k = PlacingPoseIndex(c->second, l.last_frame);
-    if (k < 0) continue;
-    auto& [sum, n] = centroids.try_emplace(l.cluster, Eigen::Vector3d::Zero(), 0).first->second;
-    sum += c->second.poses[k].inverse() * l.p_world;
-    ++n;
-  }
+  // Each cluster is drawn through its landmarks' centroid rather than its frame origin.
+  const std::map<int, ClusterCentroid> centroids = ClusterCentroids(outputs);
   auto log = GetLogger("system");
   // Biggest first, so the legend names the objects before the fragments.
   std::vector<std::pair<int, int>> order;  // (landmarks, id)
   int too_small = 0;
   for (const auto& [id, c] : outputs.clusters) {
     const auto it = centroids.find(id);
-    const int n = it == centroids.end() ? 0 : it->second.second;
+    const int n = it == centroids.end() ? 0 : it->second.landmarks;
     if (c.size() < 2) continue;
     if (static_cast<int>(c.size()) < options.min_poses || n < options.min_landmarks) {
       ++too_small;
@@ -77,12 +66,11 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
     const Trajectory& c = outputs.clusters.at(id);
     // The landmark count and frame span tell an object (hundreds of points, many frames)
     // from a fragment at a glance; the palette repeats every ten clusters.
-    RenderTrajectory t{"cluster " + std::to_string(id) + " (" + std::to_string(n) +
+    RenderTrajectory t{"object " + std::to_string(id) + " (" + std::to_string(n) +
                            " points, frames " + std::to_string(c.frames.front()) + "-" +
                            std::to_string(c.frames.back()) + ")",
                        {}, id, false};
-    const Eigen::Vector3d centroid =
-        n > 0 ? Eigen::Vector3d(centroids.at(id).first / n) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d centroid = n > 0 ? centroids.at(id).p : Eigen::Vector3d::Zero();
     // A diverged cluster (kilometres away) would shrink everything else to a dot; leave it
     // out of the plot and say so (its trajectory file is still written).
     bool diverged = false;

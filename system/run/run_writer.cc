@@ -1,19 +1,24 @@
 #include "system/run/run_writer.h"
 
 #include <filesystem>
+#include <functional>
 #include <iomanip>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/logging.h"
+#include "core/timer.h"
 #include "system/eval/trajectory_io.h"
 #include "system/io/image_io.h"
 #include "system/draw/render_scene.h"
 #include "system/render/point_cloud_export.h"
+#include "system/run/final_pictures.h"
+#include "system/run/ground_truth_objects.h"
 #include "system/run/object_motion_file.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
+#include "system/run/view_page.h"
 
 namespace cslam {
 
@@ -32,10 +37,9 @@ int FirstFrameOf(const TrackletTable& table, int landmark) {
 
 }  // namespace
 
-void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
-                     const RunTrajectories& trajectories, const PipelineOptions& options,
-                     const std::string& out_dir, const RunMetrics* metrics) {
-  auto log = GetLogger("system");
+RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
+                           const RunTrajectories& trajectories, const PipelineOptions& options,
+                           const std::string& out_dir, const RunMetrics* metrics) {
   const fs::path out(out_dir);
   const MapState& map = result.map;
 
@@ -95,6 +99,35 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
       WriteObjectMotion(track->second, stem + "_motion.csv");
   }
 
+  // The labelled objects' truth beside the estimate, with the matching metrics.json made
+  // (objects.per_object: gt_object <-> cluster).
+  const std::map<int, GroundTruthObject> truth = GroundTruthObjects(input, result.frames_processed);
+  if (!truth.empty()) {
+    std::map<int, int> matched;
+    if (metrics)
+      for (const RunMetrics::PerObject& o : metrics->objects.per_object)
+        if (o.found && o.cluster) matched[o.gt_object] = *o.cluster;
+    WriteFileAtomically((out / "objects_gt" / "index.csv").string(), [&](std::ostream& o) {
+      o << "gt_object,type,first_frame,last_frame,frames,cluster,length,width,height\n";
+      for (const auto& [id, t] : truth) {
+        if (t.trajectory.empty()) continue;
+        const int cluster = matched.count(id) ? matched.at(id) : -1;
+        outputs.gt_object_match[id] = {t.type, cluster};
+        outputs.gt_object_size[id] = t.size;
+        o << id << "," << t.type << "," << t.trajectory.frames.front() << ","
+          << t.trajectory.frames.back() << "," << t.trajectory.size() << "," << cluster << ","
+          << t.size.x() << "," << t.size.y() << "," << t.size.z() << "\n";
+      }
+    });
+    for (const auto& [id, t] : truth) {
+      if (t.trajectory.empty()) continue;
+      outputs.gt_objects[id] = t.trajectory;
+      const std::string stem = (out / "objects_gt" / std::to_string(id)).string();
+      WriteTrajectory(t.trajectory, stem + ".txt", TrajectoryFormat::kKitti);
+      WriteTrajectory(t.trajectory, stem + ".tum", TrajectoryFormat::kTum);
+    }
+  }
+
   std::vector<RenderPoint> cloud;
   for (int l : map.Landmarks()) {
     const int last = LastFrameOf(result.table, l);
@@ -125,16 +158,6 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
                         o << "# configuration: " << options.source << "\n" << options.ToYaml();
                       });
 
-  if (options.output.trajectory_plot) {
-    try {
-      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
-    } catch (const OutputError&) {
-      throw;
-    } catch (const Error& e) {
-      log->warn("render/trajectory.png not written: {}", e.what());
-    }
-  }
-
   // What each window cost and how big the map was after it: a long run's cost must not grow
   // with its history.
   WriteFileAtomically((out / "windows.csv").string(), [&](std::ostream& o) {
@@ -148,8 +171,66 @@ void WriteRunOutputs(const RunInput& input, const PipelineResult& result,
         << "," << w.live_landmarks << "\n";
   });
   WriteResourceLog(result.resources, out_dir);
-  if (options.output.trajectory_plot) WriteResourceChart(result.resources, out_dir);
   if (metrics) WriteMetricsJson(*metrics, (out / "metrics.json").string());
+
+  // The keypoints of the final-state overlays: a run keeps its observations only where the
+  // ground truth needs them (or a window still does), so the frames are chosen among those
+  // still held.
+  if (input.has_images() && options.output.final_pictures > 0) {
+    std::vector<int> held;
+    for (int f : camera.frames)
+      if (f < result.table.num_frames() && !result.table.ObservationsAt(f).empty()) held.push_back(f);
+    for (int f : SpreadFrames(held, options.output.final_pictures)) {
+      std::vector<RunKeypoint>& keypoints = outputs.keypoints[f];
+      const FrameRange trail{std::max(0, f - kOverlayTrailFrames + 1), f + 1};
+      for (const ObservationRef& ref : result.table.ObservationsAt(f)) {
+        RunKeypoint k{ref.landmark, {}};
+        for (const StereoObservation& o : result.table.ObservationsOf(ref.landmark, trail))
+          k.trail.emplace_back(o.x(0), o.x(1));
+        keypoints.push_back(std::move(k));
+      }
+    }
+    WriteFileAtomically((out / "overlay_keypoints.csv").string(), [&](std::ostream& o) {
+      o << "frame,landmark,step,u,v\n" << std::setprecision(7);
+      for (const auto& [f, keypoints] : outputs.keypoints)
+        for (const RunKeypoint& k : keypoints)
+          for (size_t i = 0; i < k.trail.size(); ++i)
+            o << f << "," << k.landmark << "," << i << "," << k.trail[i].x() << "," << k.trail[i].y() << "\n";
+    });
+  }
+  return outputs;
+}
+
+std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
+                                          const std::vector<ResourceSample>& resources,
+                                          const PipelineOptions& options, const std::string& out_dir,
+                                          const RunInput* input) {
+  const fs::path out(out_dir);
+  std::vector<std::string> failed;
+  const auto attempt = [&](const std::string& name, const std::function<void()>& draw) {
+    try {
+      const Timer timer;
+      draw();
+      GetLogger("system")->debug("{} drawn in {:.3f} s", name, timer.ElapsedS());
+    } catch (const std::exception& e) {
+      failed.push_back(name + ": " + e.what());
+    }
+  };
+  if (options.output.trajectory_plot) {
+    attempt("render/trajectory.png", [&] {
+      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
+    });
+    attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
+  }
+  if (options.output.view_page)
+    attempt("view.html", [&] { WriteViewPage(outputs, out_dir); });
+  if (input && options.output.final_pictures > 0) {
+    for (const std::string& f :
+         WriteFinalPictures(outputs, SpreadFrames(outputs.camera.frames, options.output.final_pictures),
+                            input->camera, input->images.get(), (out / "render").string()))
+      failed.push_back("render/" + f);
+  }
+  return failed;
 }
 
 }  // namespace cslam

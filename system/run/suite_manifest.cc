@@ -100,7 +100,7 @@ class ManifestParser {
 
 // The settings a run takes; a grid lists several values of each.
 struct RunSettings {
-  std::string config, method, ablation, mode;
+  std::string config, method, ablation, mode, cameras;
 };
 
 std::string SystemLabel(const RunSettings& s) {
@@ -108,6 +108,7 @@ std::string SystemLabel(const RunSettings& s) {
   if (!s.ablation.empty() && s.ablation != "none") label += "/" + s.ablation;
   if (!s.config.empty()) label += "@" + fs::path(s.config).stem().string();
   if (!s.mode.empty()) label += "," + s.mode;
+  if (!s.cameras.empty()) label += "," + s.cameras;
   return label;
 }
 
@@ -138,6 +139,7 @@ std::vector<std::string> SuiteRun::RunArguments(const std::string& input_folder,
   if (!method.empty()) a.insert(a.end(), {"--method", method});
   if (!ablation.empty()) a.insert(a.end(), {"--ablation", ablation});
   if (!mode.empty()) a.insert(a.end(), {"--mode", mode});
+  if (!cameras.empty()) a.insert(a.end(), {"--cameras", cameras});
   if (max_frames > 0) a.insert(a.end(), {"--max-frames", std::to_string(max_frames)});
   return a;
 }
@@ -172,14 +174,21 @@ SuiteManifest ReadSuiteManifest(const std::string& file) {
     }
   }
 
+  // The pair of a KITTI raw drive, spelt as `cslam run --cameras` spells it.
+  const auto cameras = [&](const YAML::Node& n, const std::string& who) {
+    const std::string v = p.String(n, who, "cameras");
+    if (v != "grey" && v != "color") p.Fail(n, who, "'cameras' must be grey or color, got '" + v + "'");
+    return v;
+  };
   RunSettings defaults;
   int default_max_frames = 0;
   if (const YAML::Node d = root["defaults"]) {
-    p.CheckKeys(d, {"config", "method", "ablation", "mode", "max_frames"}, "", "'defaults'");
+    p.CheckKeys(d, {"config", "method", "ablation", "mode", "cameras", "max_frames"}, "", "'defaults'");
     if (d["config"]) defaults.config = p.ExistingFile(d["config"], "", "config");
     if (d["method"]) defaults.method = p.String(d["method"], "", "method");
     if (d["ablation"]) defaults.ablation = p.String(d["ablation"], "", "ablation");
     if (d["mode"]) defaults.mode = p.String(d["mode"], "", "mode");
+    if (d["cameras"]) defaults.cameras = cameras(d["cameras"], "");
     if (d["max_frames"]) default_max_frames = p.Int(d["max_frames"], "", "max_frames", 0);
   }
 
@@ -200,7 +209,7 @@ SuiteManifest ReadSuiteManifest(const std::string& file) {
     std::string label = "#" + std::to_string(i + 1);
     if (e.IsMap() && e["name"] && e["name"].IsScalar()) label = e["name"].as<std::string>();
     p.CheckKeys(e,
-                {"name", "input", "synthetic", "config", "method", "ablation", "mode", "max_frames",
+                {"name", "input", "synthetic", "config", "method", "ablation", "mode", "cameras", "max_frames",
                  "grid", "trajectory", "format", "frames", "system"},
                 label, "an entry");
     std::string name = e["name"] ? Sanitize(p.String(e["name"], label, "name")) : "";
@@ -222,7 +231,7 @@ SuiteManifest ReadSuiteManifest(const std::string& file) {
     const int line = e.Mark().line + 1;
 
     if (e["trajectory"]) {
-      for (const char* k : {"config", "method", "ablation", "mode", "grid"})
+      for (const char* k : {"config", "method", "ablation", "mode", "cameras", "grid"})
         if (e[k]) p.Fail(e[k], who, std::string("'") + k + "' does not apply to an external 'trajectory' entry");
       if (!e["system"]) p.Fail(e, who, "an external 'trajectory' entry needs 'system' (its name in the table)");
       SuiteExternal x;
@@ -253,6 +262,7 @@ SuiteManifest ReadSuiteManifest(const std::string& file) {
     if (e["method"]) base.method = p.String(e["method"], who, "method");
     if (e["ablation"]) base.ablation = p.String(e["ablation"], who, "ablation");
     if (e["mode"]) base.mode = p.String(e["mode"], who, "mode");
+    if (e["cameras"]) base.cameras = cameras(e["cameras"], who);
 
     // The grid: every combination of the listed values, in the order written.
     std::vector<RunSettings> settings = {base};
@@ -295,6 +305,7 @@ SuiteManifest ReadSuiteManifest(const std::string& file) {
       r.method = settings[s].method;
       r.ablation = settings[s].ablation;
       r.mode = settings[s].mode;
+      r.cameras = settings[s].cameras;
       r.max_frames = max_frames;
       r.system = e["system"] && settings.size() == 1 ? p.String(e["system"], who, "system")
                                                      : SystemLabel(settings[s]);

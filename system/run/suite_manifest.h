@@ -40,6 +40,7 @@ struct SuiteRun {
   std::optional<SuiteSynthetic> synthetic;
   std::string config;  ///< absolute YAML path or ""
   std::string method, ablation, mode;  ///< "" = cslam run's default
+  std::string cameras;  ///< KITTI raw: "grey" or "color" (cslam run --cameras); "" = its default
   int max_frames = 0;
   std::string system;  ///< the group label: method[/ablation][@config][,mode] or `system:`
 

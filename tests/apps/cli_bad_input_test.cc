@@ -135,9 +135,11 @@ TEST_F(CliRawBadInput, NegativeBaseline) {
 
 // --- images --------------------------------------------------------------------------------
 
-TEST_F(CliRawBadInput, MissingRightImages) {
+TEST_F(CliRawBadInput, MissingRightImagesAndNoColourPairNamesBothPairs) {
   fs::remove_all(drive_ / "image_01");
-  ExpectRejected(Run(drive_), kExitInputError, (drive_ / "image_01" / "data").string() + ": expected an image folder");
+  ExpectRejected(Run(drive_), kExitInputError,
+                 drive_.string() + ": has no complete stereo pair: expected image_00/data and "
+                                   "image_01/data (grey) or image_02/data and image_03/data (colour)");
 }
 
 TEST_F(CliOdometryBadInput, UnequalLeftAndRightCounts) {

@@ -53,7 +53,7 @@ TEST_P(CliSignal, StopsWritesValidOutputsAndExitsWithTheSignalsCode) {
   bool saw_window = false;
   const auto r = testing::RunProcess(
       {CSLAM_BINARY, "run", (tmp_.path() / "seq").string(), "--out", out.string(), "--mode", "online",
-       "--config", (tmp_.path() / "config.yaml").string(), "--no-progress"},
+       "--config", (tmp_.path() / "config.yaml").string(), "--no-progress", "-v"},  // -v: the window log
       tmp_.path() / "logs", [&](pid_t pid, const fs::path& err) {
         // Signal once a window is in the map, so there is something to write.
         saw_window = testing::WaitForText(err, "window 0..29 integrated", std::chrono::seconds(600));

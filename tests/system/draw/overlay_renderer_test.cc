@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/errors.h"
+#include "system/draw/annotate.h"
 #include "system/draw/cluster_colors.h"
 #include "tests/system/image_test_util.h"
 
@@ -69,6 +70,20 @@ TEST(OverlayRenderer, KittiFrameWithClusteredCorners) {
       EXPECT_TRUE(ColourNear(image, t.trail.back(), BgrForCluster(1), 0, 10));
     }
   }
+}
+
+TEST(OverlayRenderer, TheLegendShowsEachObjectsColourAndTheCornerLabelSitsOnWhite) {
+  // Tracks far from the legend's corner, so what is in that corner is the legend's.
+  const std::vector<OverlayTrack> tracks = {{0, {{500, 150}}}, {7, {{520, 160}}}, {7, {{530, 170}}}};
+  cv::Mat image(200, 600, CV_8UC3, cv::Scalar(0, 0, 0));
+  DrawOverlayLegend(image, tracks);
+  const cv::Mat legend = image(cv::Rect(0, 0, 200, 100));
+  EXPECT_GT(testing::CountColour(legend, BgrForCluster(7), 10), 10);
+  EXPECT_GT(testing::CountColour(legend, BgrForCluster(0), 10), 10);
+  EXPECT_EQ(testing::CountColour(legend, BgrForCluster(3), 10), 0);  // no such object
+  PutCornerLabel(image, "frame 12, final estimate");
+  EXPECT_GT(testing::CountColour(image(cv::Rect(350, 0, 250, 40)), {255, 255, 255}, 0), 1000);
+  EXPECT_EQ(testing::CountColour(image(cv::Rect(350, 60, 250, 40)), {255, 255, 255}, 0), 0);
 }
 
 TEST(OverlayRenderer, RejectsAnEmptyImage) {

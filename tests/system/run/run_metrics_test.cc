@@ -63,6 +63,26 @@ TEST(RunMetrics, GroundTruthCheckComparesTheSecondEstimateWithTheTruthAndTheCame
   EXPECT_NE(SummarizeMetrics(m).find("ground truth check: zig-zag"), std::string::npos);
 }
 
+TEST(RunMetrics, AfterAStopTheGroundTruthPathLengthCoversOnlyTheFramesWithAnEstimate) {
+  // Stopped with 30 frames read and 20 estimated (the last window never ran): the summary's
+  // "gt" path length must be that of frames 0..19 (19 m), not of all 30 read (29 m).
+  PipelineResult result;
+  result.map = StraightDrive(20);
+  result.frames_processed = 30;
+  result.interrupted = true;
+  RunInput input;
+  input.name = "stopped";
+  input.gt_world_from_cam.emplace();
+  for (int f = 0; f < 40; ++f) {
+    input.timestamps.push_back(0.1 * f);
+    input.gt_world_from_cam->push_back(Translation(0, 0, f));
+  }
+  const RunMetrics m = ComputeRunMetrics(
+      input, result, BuildRunTrajectories(result.map, input.timestamps), PipelineOptions{});
+  EXPECT_NEAR(m.camera.path_length_m.value_or(0), 19.0, 1e-9);
+  EXPECT_NEAR(m.camera.gt_path_length_m.value_or(0), 19.0, 1e-9);
+}
+
 TEST(RunMetrics, WithoutACrossCheckTheGroundTruthBlockIsEmpty) {
   PipelineResult result;
   result.map = StraightDrive(10);

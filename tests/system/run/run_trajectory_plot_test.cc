@@ -46,7 +46,7 @@ TEST(RunTrajectoryPlot, GroundTruthDashedThenCameraThenClusters) {
   EXPECT_EQ(lines[1].label, "camera");
   EXPECT_EQ(lines[1].positions.size(), 10u);
   EXPECT_EQ(lines[2].cluster, 2);
-  EXPECT_EQ(lines[2].label, "cluster 2 (0 points, frames 3-9)");
+  EXPECT_EQ(lines[2].label, "object 2 (0 points, frames 3-9)");
 }
 
 TEST(RunTrajectoryPlot, FramesWithoutAPoseBreakTheLineInsteadOfBridgingIt) {

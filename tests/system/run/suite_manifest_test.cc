@@ -6,6 +6,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/errors.h"
 #include "tests/system/kitti_fixtures.h"
 
@@ -112,6 +114,23 @@ TEST_F(SuiteManifestTest, OtherMistakesAreRejected) {
   EXPECT_THAT(ErrorOf("entries: [\n"), HasSubstr("not valid YAML"));
   EXPECT_THAT(ErrorOf("entries:\n  - input: ../data/seq\n    grid: {method: []}\n"),
               HasSubstr("grid 'method' must be a non-empty list"));
+}
+
+TEST_F(SuiteManifestTest, AnEntryChoosesTheCamerasOfItsRun) {
+  const SuiteManifest m = ReadSuiteManifest(Write(R"(
+defaults: {cameras: grey}
+entries:
+  - {name: colour, input: ../data/seq, cameras: color}
+  - {name: grey, input: ../data/seq}
+)").string());
+  ASSERT_EQ(m.runs.size(), 2u);
+  const auto colour = m.runs[0].RunArguments("IN", "OUT");
+  const std::vector<std::string> flag = {"--cameras", "color"};
+  EXPECT_NE(std::search(colour.begin(), colour.end(), flag.begin(), flag.end()), colour.end());
+  EXPECT_EQ(m.runs[0].system, "clusterslam,color");
+  EXPECT_EQ(m.runs[1].cameras, "grey");
+  EXPECT_THAT(ErrorOf("entries:\n  - input: ../data/seq\n    cameras: rgb\n"),
+              HasSubstr("'cameras' must be grey or color, got 'rgb'"));
 }
 
 }  // namespace
