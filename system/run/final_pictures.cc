@@ -172,9 +172,11 @@ std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
     attempt(NumberedPngPath(render_dir, "final_snapshot", f),
             [&] { return DrawFinalSnapshot(outputs, f, camera); });
   if (images)
-    for (const auto& [f, keypoints] : outputs.keypoints)
+    for (const auto& entry : outputs.keypoints) {
+      const int f = entry.first;  // clang 14 captures no structured binding in a lambda
       attempt(NumberedPngPath(render_dir, "final_overlay", f),
               [&] { return DrawFinalOverlay(outputs, f, images->Load(f).left, camera); });
+    }
   return failed;
 }
 
