@@ -33,8 +33,8 @@ int RunCheck(const CalibArgs& args) {
   const StereoFrame shown = source->Load(frames[frames.size() / 2]);
   const std::string png = out + "/calib_check.png";
   WritePng(SideBySideWithLines(shown.left, shown.right), png);
-  for (const auto& [name, text] : source->DescriptionFiles())
-    WriteFileAtomically(out + "/" + name, [&](std::ostream& s) { s << text; });
+  for (const auto& file : source->DescriptionFiles())
+    WriteFileAtomically(out + "/" + file.first, [&](std::ostream& s) { s << file.second; });
 
   const StereoCamera& cam = source->camera();
   std::printf("%s (%s): %d pairs %dx%d\n", source->name().c_str(), source->kind().c_str(), n, cam.width,

@@ -54,8 +54,8 @@ int Run(const RunArgs& args) {
   // The output folder is created only once the input and the configuration are known good.
   PrepareRunFolder(out, "run", input, args.flags);
   AttachLogFile(out + "/run.log");
-  for (const auto& [name, text] : input.description_files)
-    WriteFileAtomically(out + "/" + name, [&](std::ostream& s) { s << text; });
+  for (const auto& file : input.description_files)
+    WriteFileAtomically(out + "/" + file.first, [&](std::ostream& s) { s << file.second; });
   PrintRunHeader(input, options, out);
 
   StopFlag stop;
