@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "core/logging.h"
+#include "system/map/medoid.h"
 
 namespace cslam {
 
@@ -54,15 +55,9 @@ bool PoseCovariance(const std::vector<Eigen::Vector3d>& body_points, const Pose&
 // The windows' positions of the body at one frame fused robustly: their medoid (the one
 // nearest all others), so the estimate of a window that misplaced the body does not move it.
 Eigen::Vector3d MedoidPosition(const std::vector<MapCluster::WindowPose>& poses) {
-  size_t best = 0;
-  double min_sum = INFINITY;
-  for (size_t i = 0; i < poses.size(); ++i) {
-    double sum = 0;
-    for (const MapCluster::WindowPose& other : poses)
-      sum += (poses[i].world_from_cluster.translation() - other.world_from_cluster.translation()).norm();
-    if (sum < min_sum) min_sum = sum, best = i;
-  }
-  return poses[best].world_from_cluster.translation();
+  return poses[MedoidIndex(0, poses.size(), [&](size_t i, size_t j) {
+           return (poses[i].world_from_cluster.translation() - poses[j].world_from_cluster.translation()).norm();
+         })].world_from_cluster.translation();
 }
 
 // The body's turn from frame a to frame b (world, left): the medoid of the turns of the window
@@ -78,14 +73,9 @@ std::optional<Eigen::Matrix3d> MedoidTurn(const std::vector<MapCluster::WindowPo
       if (pa.source == pb.source)
         turns.push_back(pb.world_from_cluster.linear() * pa.world_from_cluster.linear().transpose());
   if (turns.empty()) return std::nullopt;
-  size_t best = 0;
-  double min_sum = INFINITY;
-  for (size_t i = 0; i < turns.size(); ++i) {
-    double sum = 0;
-    for (const Eigen::Matrix3d& other : turns) sum += RotationAngle(turns[i].transpose() * other);
-    if (sum < min_sum) min_sum = sum, best = i;
-  }
-  return turns[best];
+  return turns[MedoidIndex(0, turns.size(), [&](size_t i, size_t j) {
+    return RotationAngle(turns[i].transpose() * turns[j]);
+  })];
 }
 
 }  // namespace
@@ -133,8 +123,8 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
     auto end = ends.begin();
     std::vector<TrackMeasurement> measurements;
     std::map<int, std::vector<Eigen::Vector3d>> points_at;  // frame → landmarks seen, body frame
-    const MapCluster& cluster_now = map->clusters().at(id);
-    for (const auto& [f, pose] : cluster_now.world_from_cluster) {
+    // `cluster` is still the element ReframeCluster changed in place.
+    for (const auto& [f, pose] : cluster.world_from_cluster) {
       for (; start != starts.end() && start->first <= f; ++start)
         for (int l : start->second) seen[l] = *map->PositionInCluster(l);
       for (; end != ends.end() && end->first <= f; ++end)
@@ -148,14 +138,14 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
       meas.time_s = time_of(f);
       // The position from the windows' places of the body at f; the rotation chained from
       // the first frame (the world's axes) by the windows' turns between measured frames.
-      const auto window = cluster_now.window_poses.find(f);
-      const bool windowed = window != cluster_now.window_poses.end() && !window->second.empty();
+      const auto window = cluster.window_poses.find(f);
+      const bool windowed = window != cluster.window_poses.end() && !window->second.empty();
       meas.world_from_body.translation() = windowed ? MedoidPosition(window->second) : pose.translation();
       if (measurements.empty()) {
         meas.world_from_body.linear() = pose.linear();
       } else {
-        const auto before = cluster_now.window_poses.find(measurements.back().frame);
-        if (windowed && before != cluster_now.window_poses.end())
+        const auto before = cluster.window_poses.find(measurements.back().frame);
+        if (windowed && before != cluster.window_poses.end())
           meas.turn = MedoidTurn(before->second, window->second);
         meas.world_from_body.linear() =
             meas.turn.value_or(Eigen::Matrix3d::Identity()) * measurements.back().world_from_body.linear();

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "system/map/medoid.h"
+
 namespace cslam {
 
 void TrackSmootherOptions::Check() const {
@@ -239,22 +241,18 @@ void RobustPass(const Stretch& s, const std::vector<Eigen::Matrix3d>& cov_all, c
 // of each: a start for the covariances that one flipped measurement does not move.
 std::vector<Pose> LocalMedoids(const std::vector<TrackMeasurement>& m, int half) {
   std::vector<Pose> out(m.size(), Pose::Identity());
+  size_t first = 0, last = 0;  // the measurements within `half` frames of i (m is ascending)
   for (size_t i = 0; i < m.size(); ++i) {
-    size_t best_t = i, best_r = i;
-    double min_t = INFINITY, min_r = INFINITY;
-    for (size_t a = 0; a < m.size(); ++a) {
-      if (std::abs(m[a].frame - m[i].frame) > half) continue;
-      double sum_t = 0, sum_r = 0;
-      for (size_t b = 0; b < m.size(); ++b) {
-        if (std::abs(m[b].frame - m[i].frame) > half) continue;
-        sum_t += (m[a].world_from_body.translation() - m[b].world_from_body.translation()).norm();
-        sum_r += RotationAngle(m[a].world_from_body.linear().transpose() * m[b].world_from_body.linear());
-      }
-      if (sum_t < min_t) min_t = sum_t, best_t = a;
-      if (sum_r < min_r) min_r = sum_r, best_r = a;
-    }
-    out[i].linear() = m[best_r].world_from_body.linear();
-    out[i].translation() = m[best_t].world_from_body.translation();
+    while (m[i].frame - m[first].frame > half) ++first;
+    while (last < m.size() && m[last].frame - m[i].frame <= half) ++last;
+    const size_t t = MedoidIndex(first, last, [&](size_t a, size_t b) {
+      return (m[a].world_from_body.translation() - m[b].world_from_body.translation()).norm();
+    });
+    const size_t r = MedoidIndex(first, last, [&](size_t a, size_t b) {
+      return RotationAngle(m[a].world_from_body.linear().transpose() * m[b].world_from_body.linear());
+    });
+    out[i].linear() = m[r].world_from_body.linear();
+    out[i].translation() = m[t].world_from_body.translation();
   }
   return out;
 }
