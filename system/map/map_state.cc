@@ -208,6 +208,14 @@ void MapState::SetTrajectory(int id, std::map<int, Pose> world_from_cluster) {
     c->second.world_from_cluster = std::move(world_from_cluster);
 }
 
+void MapState::SetPositionInCluster(int landmark, const Eigen::Vector3d& p_in_cluster) {
+  if (const auto it = landmarks_.find(landmark); it != landmarks_.end()) {
+    it->second.p_in_cluster = p_in_cluster;
+  } else if (LandmarkState* state = retired_.Find(landmark)) {
+    state->p_in_cluster = p_in_cluster;
+  }
+}
+
 void MapState::SetCameraPose(int frame, const Pose& world_from_cam) {
   if (frame >= num_frames()) world_from_cam_.resize(frame + 1);
   world_from_cam_[frame] = world_from_cam;

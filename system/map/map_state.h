@@ -15,6 +15,7 @@
 #include "backend/motion_estimation.h"
 #include "core/options_reader.h"
 #include "core/rigid.h"
+#include "system/map/object_observations.h"
 #include "system/map/object_track_options.h"
 
 namespace cslam {
@@ -195,6 +196,14 @@ class MapState {
   void ReframeCluster(int id, const Pose& cluster_from_body);
   /// Replaces moving cluster `id`'s trajectory (system/map/object_tracks.h).
   void SetTrajectory(int id, std::map<int, Pose> world_from_cluster);
+  /// Moves a moving landmark within its cluster's frame (the end-of-run object adjustment).
+  void SetPositionInCluster(int landmark, const Eigen::Vector3d& p_in_cluster);
+  /// Keeps the window's keypoints of the landmarks now in moving clusters (call after
+  /// Integrate with the same window; `ids` as there), for the end-of-run object tracks.
+  void KeepObjectObservations(const TrackletTable& window_table, const std::vector<int>* ids) {
+    object_observations_.Keep(window_table, ids, *this);
+  }
+  const ObjectObservations& object_observations() const { return object_observations_; }
   /// Integrated windows whose frames overlap [first, last].
   int WindowsCovering(int first, int last) const;
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).
@@ -277,6 +286,7 @@ class MapState {
   std::vector<int> gaps_;
   std::vector<int> window_begins_, window_ends_;  ///< of every integrated window, each sorted
   int next_cluster_id_ = 1;
+  ObjectObservations object_observations_;
 };
 
 }  // namespace cslam

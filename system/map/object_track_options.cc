@@ -12,6 +12,7 @@ void ObjectTrackOptions::Check() const {
 
 void ObjectTrackOptions::Load(OptionsReader& r) {
   r.Read("smooth", &smooth);
+  r.Read("adjust", &adjust);
   r.Read("pixel_sigma", &pixel_sigma);
   smoother.Load(r);
 }

@@ -10,6 +10,9 @@ namespace cslam {
 struct ObjectTrackOptions {
   /// false: the objects keep the windows' poses (in their body frames).
   bool smooth = true;
+  /// The smoothed track and the landmarks' places are refitted to the kept keypoints under the
+  /// smoother's motion model (system/map/object_adjustment.h).
+  bool adjust = true;
   /// Standard deviation of a keypoint (px) in the landmarks' measurement covariance.
   double pixel_sigma = 1.0;
   TrackSmootherOptions smoother;

@@ -3,10 +3,15 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Geometry>
+#include <functional>
 #include <optional>
+#include <set>
 
 #include "core/logging.h"
 #include "system/map/medoid.h"
+#include "system/map/object_adjustment.h"
+#include "system/map/observed_position.h"
 
 namespace cslam {
 
@@ -23,10 +28,10 @@ Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
 // stereo covariance of its projection. False with fewer than 3 usable points.
 bool PoseCovariance(const std::vector<Eigen::Vector3d>& body_points, const Pose& world_from_body,
                     const Pose& world_from_cam, const StereoCamera& camera,
-                    const Eigen::Matrix3d& pixel_cov, Eigen::Matrix3d* rotation_cov,
-                    Eigen::Matrix3d* position_cov) {
-  using Matrix6d = Eigen::Matrix<double, 6, 6>;
-  Matrix6d information = Matrix6d::Zero();
+                    const Eigen::Matrix3d& pixel_cov, bool free_scale,
+                    Eigen::Matrix3d* rotation_cov, Eigen::Matrix3d* position_cov) {
+  using Matrix7d = Eigen::Matrix<double, 7, 7>;
+  Matrix7d information = Matrix7d::Zero();
   const Pose cam_from_world = world_from_cam.inverse();
   const Eigen::Matrix3d R_wc = world_from_cam.linear();
   int used = 0;
@@ -36,17 +41,25 @@ bool PoseCovariance(const std::vector<Eigen::Vector3d>& body_points, const Pose&
     Eigen::Vector3d x;
     if (!camera.Project(p_cam, &x) || !(x(0) - x(2) > 0)) continue;
     const Eigen::Matrix3d cov = R_wc * camera.PointCovariance(x, pixel_cov) * R_wc.transpose();
-    Eigen::Matrix<double, 3, 6> J;
+    Eigen::Matrix<double, 3, 7> J;
     J.leftCols<3>() = -Skew(q);
-    J.rightCols<3>() = Eigen::Matrix3d::Identity();
+    J.middleCols<3>(3) = Eigen::Matrix3d::Identity();
+    J.col(6) = q;  // the scale of the body's shape (system/map/observed_position.h)
     information += J.transpose() * cov.ldlt().solve(J);
     ++used;
   }
   if (used < 3) return false;
   // A tiny prior keeps a degenerate set (collinear points: no roll about their line)
   // invertible; its covariance there is then huge, as it should be.
-  information += 1e-9 * Matrix6d::Identity();
-  const Matrix6d covariance = information.ldlt().solve(Matrix6d::Identity());
+  using Matrix6d = Eigen::Matrix<double, 6, 6>;
+  Matrix6d pose_information = information.topLeftCorner<6, 6>();
+  // With the scale free, the body's apparent size no longer measures its depth: its
+  // information is what is left once the scale is marginalised (Schur complement).
+  if (free_scale && information(6, 6) > 0)
+    pose_information -= information.topRightCorner<6, 1>() * information.bottomLeftCorner<1, 6>() /
+                        information(6, 6);
+  pose_information += 1e-9 * Matrix6d::Identity();
+  const Matrix6d covariance = pose_information.ldlt().solve(Matrix6d::Identity());
   *rotation_cov = covariance.topLeftCorner<3, 3>();
   *position_cov = covariance.bottomRightCorner<3, 3>();
   return true;
@@ -78,6 +91,113 @@ std::optional<Eigen::Matrix3d> MedoidTurn(const std::vector<MapCluster::WindowPo
   })];
 }
 
+
+// A frame's body pose from its keypoints, the position's covariance, and the places in the body
+// of the landmarks it used.
+struct KeypointPose {
+  Pose world_from_body = Pose::Identity();
+  Eigen::Matrix3d position_cov = Eigen::Matrix3d::Identity();
+  std::vector<Eigen::Vector3d> points;
+};
+
+// Where the body's own keypoints put it and turn it, started from the windows' idea of its
+// axes, a quarter, half and three-quarter turn of them about the world's vertical (a far car's
+// windows flip its heading) and the axes the previous frame's keypoints gave.
+std::optional<KeypointPose> PlaceByKeypoints(const std::vector<BodyKeypoint>& keypoints,
+                                             const Eigen::Matrix3d& window_axes,
+                                             const std::optional<Eigen::Matrix3d>& previous_axes,
+                                             const Pose& world_from_cam, const StereoCamera& camera) {
+  std::vector<Eigen::Matrix3d> starts;
+  for (int quarter = 0; quarter < 4; ++quarter)
+    starts.push_back(Eigen::AngleAxisd(quarter * M_PI / 2, Eigen::Vector3d::UnitY()) * window_axes);
+  if (previous_axes) starts.push_back(*previous_axes);
+  const auto pose = ObserveBodyPose(keypoints, starts, world_from_cam, camera);
+  if (!pose) return std::nullopt;
+  KeypointPose out{pose->world_from_body, pose->position_cov, {}};
+  out.points.reserve(keypoints.size());
+  for (const BodyKeypoint& k : keypoints) out.points.push_back(k.in_body);
+  return out;
+}
+
+// Whether the keypoints make the body's places: where they place it at most frames and refuse
+// the windows' places at most of those (the squared Mahalanobis distance between the two, under
+// both covariances, above the smoother's gate). A window whose cluster took in another car's
+// points, or that misjudged a far body's shape, puts it metres from where its keypoints are.
+bool KeypointsLead(const std::vector<TrackMeasurement>& measurements,
+                   const std::vector<std::optional<KeypointPose>>& by_keypoints, double gate_chi2) {
+  std::vector<double> refusals;
+  for (size_t i = 0; i < measurements.size(); ++i) {
+    if (!by_keypoints[i]) continue;
+    const Eigen::Vector3d gap =
+        measurements[i].world_from_body.translation() - by_keypoints[i]->world_from_body.translation();
+    refusals.push_back(
+        gap.dot((by_keypoints[i]->position_cov + measurements[i].position_cov).ldlt().solve(gap)));
+  }
+  if (refusals.empty() || 2 * refusals.size() < measurements.size()) return false;
+  const auto mid = refusals.begin() + static_cast<std::ptrdiff_t>(refusals.size() / 2);
+  std::nth_element(refusals.begin(), mid, refusals.end());
+  return *mid > gate_chi2;
+}
+
+// The keypoints' places replace the windows'; the windows keep the turns, which a bundle
+// adjustment measures far better than one frame's keypoints do. The axes at the first frame
+// become the medoid of those each placed frame gives when carried back through the turns, so
+// the body's landmarks sit where its keypoints saw them.
+void UseKeypointPlaces(const std::vector<std::optional<KeypointPose>>& by_keypoints,
+                       std::vector<TrackMeasurement>* measurements) {
+  const Eigen::Matrix3d first = measurements->front().world_from_body.linear();
+  std::vector<Eigen::Matrix3d> anchors;
+  for (size_t i = 0; i < measurements->size(); ++i) {
+    if (!by_keypoints[i]) continue;
+    TrackMeasurement& meas = (*measurements)[i];
+    anchors.push_back(first * meas.world_from_body.linear().transpose() *
+                      by_keypoints[i]->world_from_body.linear());
+    meas.world_from_body.translation() = by_keypoints[i]->world_from_body.translation();
+  }
+  const Eigen::Matrix3d anchor = anchors[MedoidIndex(0, anchors.size(), [&](size_t a, size_t b) {
+    return RotationAngle(anchors[a].transpose() * anchors[b]);
+  })];
+  for (TrackMeasurement& meas : *measurements)
+    meas.world_from_body.linear() = meas.world_from_body.linear() * first.transpose() * anchor;
+}
+
+
+// The object adjustment (system/map/object_adjustment.h) on the smoothed track: poses and the
+// landmarks' places refitted to the kept keypoints under the motion model. The body frame's
+// origin goes back to the landmarks' centroid; velocities follow the adjusted positions.
+int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& turns, MapState* map,
+                const StereoCamera& camera, const std::function<double(int)>& time_of,
+                const TrackSmootherOptions& motion, ObjectTrack* track) {
+  std::vector<Eigen::Vector3d> places;
+  std::vector<ObjectKeypoint> keypoints;
+  for (int l : members) {
+    const int index = static_cast<int>(places.size());
+    places.push_back(*map->PositionInCluster(l));
+    for (const StereoObservation& o : map->object_observations().Of(l))
+      if (!o.clipped) keypoints.push_back({o.frame, index, o.x, o.cov});
+  }
+  std::map<int, Pose> poses;
+  for (const TrackState& s : track->states) poses[s.frame] = s.world_from_body;
+  const ObjectAdjustment adjusted =
+      AdjustObject(keypoints, turns, &places, &poses, map->world_from_cam(), camera, time_of, motion);
+  if (!adjusted.adjusted) return 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : places) centroid += p / static_cast<double>(places.size());
+  for (size_t i = 0; i < members.size(); ++i) map->SetPositionInCluster(members[i], places[i] - centroid);
+  Pose to_centroid = Pose::Identity();
+  to_centroid.translation() = centroid;
+  std::vector<TrackState>& states = track->states;
+  for (TrackState& s : states) s.world_from_body = poses.at(s.frame) * to_centroid;
+  for (size_t k = 0; k < states.size(); ++k) {
+    const size_t a = k > 0 && states[k - 1].frame == states[k].frame - 1 ? k - 1 : k;
+    const size_t b = k + 1 < states.size() && states[k + 1].frame == states[k].frame + 1 ? k + 1 : k;
+    if (a == b) continue;
+    states[k].velocity = (states[b].world_from_body.translation() - states[a].world_from_body.translation()) /
+                         (states[b].time_s - states[a].time_s);
+  }
+  return adjusted.frames;
+}
+
 }  // namespace
 
 std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& table,
@@ -88,7 +208,7 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
   std::map<int, std::vector<int>> members;
   for (int l : map->Landmarks())
     if (const int c = map->ClusterOf(l); c >= 1 && map->clusters().count(c)) members[c].push_back(l);
-  const auto time_of = [&](int f) {
+  const std::function<double(int)> time_of = [&](int f) {
     return f < static_cast<int>(timestamps.size()) ? timestamps[f] : f * frame_period_s;
   };
   const Eigen::Matrix3d pixel_cov = options.pixel_sigma * options.pixel_sigma * Eigen::Matrix3d::Identity();
@@ -118,11 +238,20 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
       starts[span.first_frame].push_back(l);
       ends[span.last_frame + 1].push_back(l);
     }
+    // Each frame's kept keypoints of the body's landmarks, with their places in the body.
+    std::map<int, std::vector<BodyKeypoint>> keypoints_at;
+    for (int l : m->second) {
+      const Eigen::Vector3d in_body = *map->PositionInCluster(l);
+      for (const StereoObservation& o : map->object_observations().Of(l))
+        if (!o.clipped) keypoints_at[o.frame].push_back({in_body, o.x, o.cov});
+    }
     std::map<int, Eigen::Vector3d> seen;  // landmark → position in the body frame
     auto start = starts.begin();
     auto end = ends.begin();
     std::vector<TrackMeasurement> measurements;
+    std::vector<std::optional<KeypointPose>> by_keypoints;  // per measurement
     std::map<int, std::vector<Eigen::Vector3d>> points_at;  // frame → landmarks seen, body frame
+    std::optional<Eigen::Matrix3d> last_keypoint_axes;
     // `cluster` is still the element ReframeCluster changed in place.
     for (const auto& [f, pose] : cluster.world_from_cluster) {
       for (; start != starts.end() && start->first <= f; ++start)
@@ -151,16 +280,36 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
             meas.turn.value_or(Eigen::Matrix3d::Identity()) * measurements.back().world_from_body.linear();
       }
       if (!PoseCovariance(points, meas.world_from_body, *map->world_from_cam()[f], camera, pixel_cov,
-                          &meas.rotation_cov, &meas.position_cov))
+                          false, &meas.rotation_cov, &meas.position_cov))
         continue;
+      std::optional<KeypointPose> placed;
+      if (const auto k = keypoints_at.find(f); k != keypoints_at.end())
+        placed = PlaceByKeypoints(k->second, meas.world_from_body.linear(), last_keypoint_axes,
+                                  *map->world_from_cam()[f], camera);
+      if (placed) last_keypoint_axes = placed->world_from_body.linear();
       measurements.push_back(meas);
+      by_keypoints.push_back(std::move(placed));
       points_at[f] = std::move(points);
     }
     if (measurements.empty()) continue;
+    const bool keypoints_lead = KeypointsLead(measurements, by_keypoints, options.smoother.gate_chi2);
+    std::set<int> placed_frames;
+    if (keypoints_lead) {
+      UseKeypointPlaces(by_keypoints, &measurements);
+      for (size_t i = 0; i < measurements.size(); ++i) {
+        if (!by_keypoints[i]) continue;
+        placed_frames.insert(measurements[i].frame);
+        points_at[measurements[i].frame] = std::move(by_keypoints[i]->points);
+      }
+    }
     const auto covariance = [&](int f, const Pose& world_from_body, Eigen::Matrix3d* rotation_cov,
                                 Eigen::Matrix3d* position_cov) {
-      return PoseCovariance(points_at.at(f), world_from_body, *map->world_from_cam()[f], camera,
-                            pixel_cov, rotation_cov, position_cov);
+      if (!PoseCovariance(points_at.at(f), world_from_body, *map->world_from_cam()[f], camera,
+                          pixel_cov, keypoints_lead, rotation_cov, position_cov))
+        return false;
+      // A frame the keypoints did not place keeps the windows' turn but not their place.
+      if (keypoints_lead && !placed_frames.count(f)) *position_cov = 1e6 * Eigen::Matrix3d::Identity();
+      return true;
     };
     const SmoothedTrack smoothed =
         SmoothTrack(measurements, frame_period_s, options.smoother, covariance);
@@ -172,9 +321,10 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
       }
       std::sort(sr.begin(), sr.end());
       std::sort(sp.begin(), sp.end());
-      log->debug("object {} track: {} measured frames, median 1-sigma rotation {:.2f} deg x {:.1f}, "
+      log->debug("object {} track: places from {} ({} of {} frames placed by keypoints), {} measured frames, median 1-sigma rotation {:.2f} deg x {:.1f}, "
                  "position {:.3f} m x {:.1f}; refused {} positions, {} rotations",
-                 id, measurements.size(), sr[sr.size() / 2], std::sqrt(smoothed.rotation_scale),
+                 id, keypoints_lead ? "keypoints" : "windows", placed_frames.size(),
+                 keypoints_at.size(), measurements.size(), sr[sr.size() / 2], std::sqrt(smoothed.rotation_scale),
                  sp[sp.size() / 2], std::sqrt(smoothed.position_scale), smoothed.rejected_positions,
                  smoothed.rejected_rotations);
     }
@@ -183,9 +333,32 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
     track.measurements = static_cast<int>(measurements.size());
     track.rejected_positions = smoothed.rejected_positions;
     track.rejected_rotations = smoothed.rejected_rotations;
+    if (options.adjust) {
+      // The windows' turns, at the covariances the smoother found them to have.
+      std::vector<ObjectTurn> turns;
+      for (size_t i = 1; i < measurements.size(); ++i) {
+        if (!measurements[i].turn) continue;
+        Eigen::Matrix3d a, b, p;
+        if (!covariance(measurements[i - 1].frame, measurements[i - 1].world_from_body, &a, &p) ||
+            !covariance(measurements[i].frame, measurements[i].world_from_body, &b, &p))
+          continue;
+        turns.push_back({measurements[i - 1].frame, measurements[i].frame, *measurements[i].turn,
+                         smoothed.rotation_scale * (a + b)});
+      }
+      track.adjusted_frames =
+          AdjustTrack(m->second, turns, map, camera, time_of, options.smoother, &track);
+    }
     std::map<int, Pose> poses;
-    for (const TrackState& s : smoothed.states) poses[s.frame] = s.world_from_body;
+    for (const TrackState& s : track.states) poses[s.frame] = s.world_from_body;
     map->SetTrajectory(id, std::move(poses));
+    // The keypoints turn the body away from the axes the first window gave it; the body frame
+    // keeps the world's axes at the first frame of its track.
+    if (keypoints_lead && !track.states.empty()) {
+      Pose turn_back = Pose::Identity();
+      turn_back.linear() = track.states.front().world_from_body.linear().transpose();
+      map->ReframeCluster(id, turn_back);
+      for (TrackState& s : track.states) s.world_from_body = s.world_from_body * turn_back;
+    }
   }
   return tracks;
 }

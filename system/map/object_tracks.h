@@ -6,7 +6,9 @@
 // origin at its landmarks' centroid and its axes the world's at its first frame; each frame's
 // pose from the windows becomes a measurement whose covariance its visible landmarks' stereo
 // uncertainty gives (system/map/track_smoother.h), and the smoothed track replaces the poses,
-// including frames of gaps up to the smoother's max_gap_s.
+// including frames of gaps up to the smoother's max_gap_s. Where the body's own kept
+// keypoints (MapState::object_observations) refuse the windows' places of it, they place it
+// instead (system/map/observed_position.h; docs/backend.md map step 6).
 #include <map>
 #include <vector>
 
@@ -23,6 +25,7 @@ struct ObjectTrack {
   std::vector<TrackState> states;  ///< ascending frames
   int measurements = 0;            ///< frames whose pose the windows gave
   int rejected_positions = 0, rejected_rotations = 0;
+  int adjusted_frames = 0;  ///< poses the object adjustment refitted to the keypoints
 };
 
 /// Re-frames every moving cluster of `map` to its body frame and, with options.smooth,

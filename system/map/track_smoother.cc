@@ -53,7 +53,8 @@ struct RotationSpace {
   static X Plus(const X& x, const Eigen::Vector3d& d) { return ExpSO3(d) * x; }
   static Eigen::Vector3d Minus(const X& a, const X& b) { return LogSO3(a * b.transpose()); }
   static constexpr double kInitialSigma = M_PI;
-  static constexpr double kInitialVelocitySigma = 1.0;  // rad/s: a tight turn's yaw rate
+  // rad/s; only for a model without mean reversion (the angular model has one).
+  static constexpr double kInitialVelocitySigma = 1.0;
 };
 // Rotations whose measurements are turn rates: the orientation starts at the first
 // measurement's (the body frame's axes, exactly) and follows the integrated angular velocity.
@@ -118,8 +119,11 @@ Smoothed<S> FilterAndSmooth(const Stretch& s, const typename S::X& x0,
       v_pred[0].setZero();
       P_pred[0].setZero();
       P_pred[0].topLeftCorner<3, 3>() = std::pow(S::kInitialSigma, 2) * Eigen::Matrix3d::Identity();
-      P_pred[0].bottomRightCorner<3, 3>() =
-          std::pow(S::kInitialVelocitySigma, 2) * Eigen::Matrix3d::Identity();
+      // A mean-reverting velocity is, before any measurement, in its stationary spread
+      // (q τ / 2): a body first seen is no likelier to spin than one seen for a while.
+      const double v0 = std::isfinite(model.tau) ? model.q * model.tau / 2
+                                                 : std::pow(S::kInitialVelocitySigma, 2);
+      P_pred[0].bottomRightCorner<3, 3>() = v0 * Eigen::Matrix3d::Identity();
     } else {
       const double dt = s.times[k] - s.times[k - 1];
       const Matrix6d F = Transition(dt, model);

@@ -152,6 +152,7 @@ class BackendStage {
     timer.Reset();
     const double integrate_cpu_start = ThreadCpuMs();
     stats.integration = map_.Integrate(result.estimate, ids);
+    map_.KeepObjectObservations(window_table, ids);
     stats.integrate_ms = timer.ElapsedMs();
     stats.integrate_cpu_ms = ThreadCpuMs() - integrate_cpu_start;
     stats.live_clusters = map_.NumLiveClusters();

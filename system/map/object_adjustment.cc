@@ -1,0 +1,298 @@
+#include "system/map/object_adjustment.h"
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace cslam {
+
+namespace {
+
+constexpr double kCauchyChi2 = 7.81;   // χ²₃ 95 %: the robust kernel's scale
+constexpr double kChi2Median3 = 2.366;
+constexpr double kInlierGate = 16.27;  // χ²₃ 99.9 %
+
+// A keypoint against the body's pose at its frame and its landmark's place in the body.
+struct Reprojection {
+  Reprojection(const StereoCamera& camera, const Pose& cam_from_world, const Eigen::Vector3d& x,
+               const Eigen::Matrix3d& whiten)
+      : camera(camera), cam_from_world(cam_from_world), x(x), whiten(whiten) {}
+  template <typename T>
+  bool operator()(const T* q, const T* t, const T* p, T* residual) const {
+    T pw[3];
+    ceres::QuaternionRotatePoint(q, p, pw);
+    Eigen::Matrix<T, 3, 1> world(pw[0] + t[0], pw[1] + t[1], pw[2] + t[2]);
+    const Eigen::Matrix<T, 3, 1> in_cam =
+        cam_from_world.linear().cast<T>() * world + cam_from_world.translation().cast<T>();
+    Eigen::Matrix<T, 3, 1> projected;
+    camera.Project(in_cam, &projected);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = whiten.cast<T>() * (x.cast<T>() - projected);
+    return true;
+  }
+  const StereoCamera& camera;
+  Pose cam_from_world;
+  Eigen::Vector3d x;
+  Eigen::Matrix3d whiten;
+};
+
+// Three consecutive poses: the change of velocity and of angular velocity (world) between the
+// two intervals, each over the spread the motion model allows in their mean duration.
+struct SmoothMotion {
+  SmoothMotion(double dt1, double dt2, double acceleration, double angular_acceleration)
+      : dt1(dt1), dt2(dt2) {
+    const double span = std::sqrt((dt1 + dt2) / 2);
+    velocity_sigma = acceleration * span;
+    rate_sigma = angular_acceleration * span;
+  }
+  template <typename T>
+  bool operator()(const T* q0, const T* t0, const T* q1, const T* t1, const T* q2, const T* t2,
+                  T* residual) const {
+    for (int i = 0; i < 3; ++i)
+      residual[i] = ((t2[i] - t1[i]) / dt2 - (t1[i] - t0[i]) / dt1) / velocity_sigma;
+    T w1[3], w2[3];
+    Turn(q0, q1, w1);
+    Turn(q1, q2, w2);
+    for (int i = 0; i < 3; ++i) residual[3 + i] = (w2[i] / dt2 - w1[i] / dt1) / rate_sigma;
+    return true;
+  }
+  // The rotation from a to b, left (world): b a⁻¹, as an angle-axis vector.
+  template <typename T>
+  static void Turn(const T* a, const T* b, T* w) {
+    const T a_inv[4] = {a[0], -a[1], -a[2], -a[3]};
+    T d[4];
+    ceres::QuaternionProduct(b, a_inv, d);
+    if (d[0] < T(0))
+      for (T& v : d) v = -v;
+    ceres::QuaternionToAngleAxis(d, w);
+  }
+  double dt1, dt2, velocity_sigma = 1, rate_sigma = 1;
+};
+
+// Two consecutive poses: the angular velocity between them against its stationary spread.
+// The smoother's angular velocity reverts to zero; without this, a body spinning at a
+// constant rate would cost nothing, and a far body whose keypoints hardly fix its heading
+// was fitted turning by 18° per frame.
+struct AngularRate {
+  AngularRate(double dt, double sigma) : dt(dt), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* q0, const T* q1, T* residual) const {
+    T w[3];
+    SmoothMotion::Turn(q0, q1, w);
+    for (int i = 0; i < 3; ++i) residual[i] = w[i] / (dt * sigma);
+    return true;
+  }
+  double dt, sigma;
+};
+
+// The windows' turn of the body between two frames (world, left) against the poses' turn.
+struct WindowTurn {
+  WindowTurn(const Eigen::Matrix3d& turn, const Eigen::Matrix3d& whiten)
+      : inverse(Eigen::Quaterniond(turn).conjugate()), whiten(whiten) {}
+  template <typename T>
+  bool operator()(const T* q0, const T* q1, T* residual) const {
+    const T m_inv[4] = {T(inverse.w()), T(inverse.x()), T(inverse.y()), T(inverse.z())};
+    T q0_inv[4] = {q0[0], -q0[1], -q0[2], -q0[3]};
+    T turn[4], error[4];
+    ceres::QuaternionProduct(q1, q0_inv, turn);
+    ceres::QuaternionProduct(turn, m_inv, error);
+    if (error[0] < T(0))
+      for (T& v : error) v = -v;
+    T w[3];
+    ceres::QuaternionToAngleAxis(error, w);
+    Eigen::Map<Eigen::Matrix<T, 3, 1>> r(residual);
+    r = whiten.cast<T>() * Eigen::Matrix<T, 3, 1>(w[0], w[1], w[2]);
+    return true;
+  }
+  Eigen::Quaterniond inverse;
+  Eigen::Matrix3d whiten;
+};
+
+struct FramePose {
+  double q[4];
+  double t[3];
+};
+
+Eigen::Matrix3d Whitening(const Eigen::Matrix3d& cov) {
+  // L⁻¹ of cov = L Lᵀ: |L⁻¹ r|² is the squared Mahalanobis distance.
+  const Eigen::LLT<Eigen::Matrix3d> llt(cov);
+  return llt.matrixL().solve(Eigen::Matrix3d::Identity());
+}
+
+}  // namespace
+
+ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
+                              const std::vector<ObjectTurn>& turns,
+                              std::vector<Eigen::Vector3d>* in_body,
+                              std::map<int, Pose>* world_from_body,
+                              const std::vector<std::optional<Pose>>& world_from_cam,
+                              const StereoCamera& camera, const std::function<double(int)>& time_of,
+                              const TrackSmootherOptions& motion) {
+  ObjectAdjustment out;
+  std::map<int, int> count;
+  for (const ObjectKeypoint& k : keypoints)
+    if (world_from_body->count(k.frame) && k.frame < static_cast<int>(world_from_cam.size()) &&
+        world_from_cam[k.frame])
+      ++count[k.frame];
+  std::map<int, FramePose> poses;
+  for (const auto& [f, n] : count) {
+    if (n < 3) continue;
+    const Pose& p = world_from_body->at(f);
+    const Eigen::Quaterniond q(p.linear());
+    poses[f] = FramePose{{q.w(), q.x(), q.y(), q.z()}, {p.translation().x(), p.translation().y(), p.translation().z()}};
+  }
+  if (poses.size() < 3) return out;
+  std::vector<Eigen::Vector3d> places = *in_body;
+  // The angular acceleration the smoother's mean-reverting rate allows: its driving noise.
+  const double angular_acceleration =
+      std::sqrt(2 * motion.angular_rate_sigma_radps * motion.angular_rate_sigma_radps /
+                motion.angular_rate_time_s);
+
+  std::vector<const ObjectKeypoint*> used;
+  for (const ObjectKeypoint& k : keypoints)
+    if (poses.count(k.frame) && k.landmark >= 0 && k.landmark < static_cast<int>(places.size()))
+      used.push_back(&k);
+  const auto solve = [&](double keypoint_scale, double* initial, double* final_cost) {
+    ceres::Problem::Options problem_options;
+    problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    ceres::QuaternionManifold quaternion;
+    for (const ObjectKeypoint* k : used) {
+      FramePose& pose = poses.at(k->frame);
+      auto* cost = new ceres::AutoDiffCostFunction<Reprojection, 3, 4, 3, 3>(new Reprojection(
+          camera, world_from_cam[k->frame]->inverse(), k->x, Whitening(keypoint_scale * k->cov)));
+      problem.AddResidualBlock(cost, new ceres::CauchyLoss(std::sqrt(kCauchyChi2)), pose.q, pose.t,
+                               places[k->landmark].data());
+    }
+    for (auto& [f, pose] : poses) problem.SetManifold(pose.q, &quaternion);
+    problem.SetParameterBlockConstant(poses.begin()->second.q);
+    problem.SetParameterBlockConstant(poses.begin()->second.t);
+    for (const ObjectTurn& turn : turns) {
+      const auto a = poses.find(turn.from_frame), b = poses.find(turn.to_frame);
+      if (a == poses.end() || b == poses.end()) continue;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<WindowTurn, 3, 4, 4>(
+                                   new WindowTurn(turn.turn, Whitening(turn.cov))),
+                               new ceres::CauchyLoss(std::sqrt(kCauchyChi2)), a->second.q, b->second.q);
+    }
+    for (auto it = std::next(poses.begin()); it != poses.end(); ++it) {
+      const double dt = time_of(it->first) - time_of(std::prev(it)->first);
+      if (!(dt > 0)) continue;
+      problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AngularRate, 3, 4, 4>(
+                                   new AngularRate(dt, motion.angular_rate_sigma_radps)),
+                               nullptr, std::prev(it)->second.q, it->second.q);
+    }
+    for (auto it = std::next(poses.begin()); std::next(it) != poses.end(); ++it) {
+      auto& a = std::prev(it)->second;
+      auto& b = it->second;
+      auto& c = std::next(it)->second;
+      const double dt1 = time_of(it->first) - time_of(std::prev(it)->first);
+      const double dt2 = time_of(std::next(it)->first) - time_of(it->first);
+      if (!(dt1 > 0) || !(dt2 > 0)) continue;
+      auto* cost = new ceres::AutoDiffCostFunction<SmoothMotion, 6, 4, 3, 4, 3, 4, 3>(
+          new SmoothMotion(dt1, dt2, motion.acceleration_mps2, angular_acceleration));
+      problem.AddResidualBlock(cost, nullptr, a.q, a.t, b.q, b.t, c.q, c.t);
+    }
+    ceres::Solver::Options options;
+    options.linear_solver_type = ceres::SPARSE_SCHUR;
+    options.max_num_iterations = 50;
+    options.num_threads = 1;
+    options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(options, &problem, &summary);
+    *initial = summary.initial_cost;
+    *final_cost = summary.final_cost;
+    return summary.IsSolutionUsable() && summary.final_cost <= summary.initial_cost;
+  };
+
+  const std::map<int, FramePose> start_poses = poses;
+  const std::vector<Eigen::Vector3d> start_places = places;
+  double initial = 0, final_cost = 0;
+  if (!solve(1.0, &initial, &final_cost)) return out;
+  // The keypoints' spread about the fit says how far to trust their covariances.
+  std::vector<double> squared;
+  squared.reserve(used.size());
+  for (const ObjectKeypoint* k : used) {
+    double r[3];
+    const FramePose& pose = poses.at(k->frame);
+    Reprojection(camera, world_from_cam[k->frame]->inverse(), k->x, Whitening(k->cov))(
+        pose.q, pose.t, places[k->landmark].data(), r);
+    squared.push_back(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  }
+  std::vector<double> sorted = squared;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  out.keypoint_scale = std::max(1.0, sorted[sorted.size() / 2] / kChi2Median3);
+  if (out.keypoint_scale > 1.5) {
+    poses = start_poses;
+    places = start_places;
+    if (!solve(out.keypoint_scale, &initial, &final_cost)) return out;
+  }
+  // A fit that explains fewer than half of the keypoints (within the χ²₃ 99.9 % gate, at
+  // their scaled covariances) started too far from the body to find it: keep the track.
+  int inliers = 0;
+  for (const ObjectKeypoint* k : used) {
+    double r[3];
+    const FramePose& pose = poses.at(k->frame);
+    Reprojection(camera, world_from_cam[k->frame]->inverse(), k->x,
+                 Whitening(out.keypoint_scale * k->cov))(pose.q, pose.t, places[k->landmark].data(), r);
+    inliers += r[0] * r[0] + r[1] * r[1] + r[2] * r[2] < kInlierGate;
+  }
+  out.inliers = inliers;
+  if (2 * inliers < static_cast<int>(used.size())) return out;
+  // Every pose: the adjusted ones, and the others moved with the nearest adjusted frame, so
+  // that the track's own motion between them is kept.
+  std::map<int, Pose> adjusted;
+  for (const auto& [f, pose] : poses) {
+    Pose p = Pose::Identity();
+    p.linear() = Eigen::Quaterniond(pose.q[0], pose.q[1], pose.q[2], pose.q[3]).normalized().toRotationMatrix();
+    p.translation() = Eigen::Vector3d(pose.t[0], pose.t[1], pose.t[2]);
+    adjusted[f] = p;
+  }
+  std::map<int, Pose> track;
+  for (const auto& [f, given] : *world_from_body) {
+    if (const auto a = adjusted.find(f); a != adjusted.end()) {
+      track[f] = a->second;
+      continue;
+    }
+    auto next = adjusted.lower_bound(f);
+    if (next == adjusted.end() || (next != adjusted.begin() && f - std::prev(next)->first < next->first - f))
+      next = std::prev(next);
+    track[f] = Pose(next->second * world_from_body->at(next->first).inverse() * given);
+  }
+  // What a body can do between frames, at the χ²₃ 99.9 % bound of the motion model: a fit
+  // that turns a body or changes its velocity by more somewhere has followed keypoints of
+  // something that is not one rigid body (a cyclist's legs) or left the body: keep the track.
+  const double bound = std::sqrt(kInlierGate);
+  for (auto it = std::next(track.begin()); it != track.end(); ++it) {
+    const auto before = std::prev(it);
+    if (it->first != before->first + 1) continue;  // a gap: the track starts again
+    const double dt = time_of(it->first) - time_of(before->first);
+    if (!(dt > 0)) continue;
+    if (RotationAngle(it->second.linear() * before->second.linear().transpose()) >
+        bound * motion.angular_rate_sigma_radps * dt) {
+      out.implausible = true;
+      return out;
+    }
+    const auto after = std::next(it);
+    if (after == track.end() || after->first != it->first + 1) continue;
+    const double dt2 = time_of(after->first) - time_of(it->first);
+    if (!(dt2 > 0)) continue;
+    const Eigen::Vector3d dv = (after->second.translation() - it->second.translation()) / dt2 -
+                               (it->second.translation() - before->second.translation()) / dt;
+    if (dv.norm() > bound * motion.acceleration_mps2 * std::sqrt((dt + dt2) / 2)) {
+      out.implausible = true;
+      return out;
+    }
+  }
+  *world_from_body = std::move(track);
+  *in_body = std::move(places);
+  out.adjusted = true;
+  out.frames = static_cast<int>(poses.size());
+  out.keypoints = static_cast<int>(used.size());
+  return out;
+}
+
+}  // namespace cslam
