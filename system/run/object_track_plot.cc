@@ -38,10 +38,15 @@ std::string Fixed(double v, int decimals) {
 
 // "object 3, frames 10-80", then its motion error, or why there is none. `truth` is the
 // labelled object matched to it (-1: none).
-std::string ObjectLabel(int id, const Trajectory& t, const RunMetrics::PerObject* errors, int truth,
-                        bool labelled_run) {
-  std::string label = "object " + std::to_string(id) + ", frames " +
-                      std::to_string(t.frames.front()) + "-" + std::to_string(t.frames.back());
+std::string ObjectLabel(const RunOutputs& outputs, int id, const RunMetrics::PerObject* errors,
+                        int truth, bool labelled_run) {
+  const Trajectory& t = outputs.clusters.at(id);
+  std::string label = "object " + std::to_string(id);
+  // The class of the labelled object matched to it (KITTI's "Van"); synthetic ones have none.
+  const auto match = outputs.gt_object_match.find(truth);
+  if (match != outputs.gt_object_match.end() && match->second.first != "object")
+    label += " (" + match->second.first + ")";
+  label += ", frames " + std::to_string(t.frames.front()) + "-" + std::to_string(t.frames.back());
   if (errors && errors->me_r_deg && errors->me_t_m)
     return label + ": ME_r " + Fixed(*errors->me_r_deg, 2) + " deg, ME_t " +
            Fixed(*errors->me_t_m, 3) + " m";
@@ -81,7 +86,7 @@ std::vector<RenderTrajectory> ObjectTrackPlotLines(const RunOutputs& outputs,
     last = std::max(last, c.frames.back());
     const auto e = errors.find(t.cluster);
     const auto truth = truth_of.find(t.cluster);
-    t.label = ObjectLabel(t.cluster, c, e == errors.end() ? nullptr : e->second,
+    t.label = ObjectLabel(outputs, t.cluster, e == errors.end() ? nullptr : e->second,
                           truth == truth_of.end() ? -1 : truth->second, labelled_run);
   }
 

@@ -17,7 +17,8 @@ namespace cslam {
 
 /// The lines of the picture, in drawing and legend order: the camera (kContextPath) over the
 /// frames from the first object's first to the last object's last, each object by id (label
-/// "object 3, frames 10-80: ME_r 0.42 deg, ME_t 0.081 m"; "...: truth id 7, no motion error"
+/// "object 3 (Van), frames 10-80: ME_r 0.42 deg, ME_t 0.081 m", the class being the matched
+/// labelled object's when it has one; "...: truth id 7, no motion error"
 /// when matched without errors; "...: no labelled object matched" when the run had labels but
 /// none for it), then the ground truth of each object matched to a labelled one (metrics.json's
 /// matching, else objects_gt/index.csv's) over that object's frames (dashed, unlabelled), and

@@ -64,7 +64,7 @@ TEST(ObjectTrackPlot,
   EXPECT_EQ(lines[0].label, "camera, frames 3-15");
   EXPECT_EQ(lines[0].positions.size(), 13u);
   EXPECT_EQ(lines[1].cluster, 2);
-  EXPECT_EQ(lines[1].label, "object 2, frames 3-9: ME_r 0.42 deg, ME_t 0.081 m");
+  EXPECT_EQ(lines[1].label, "object 2 (Car), frames 3-9: ME_r 0.42 deg, ME_t 0.081 m");
   EXPECT_EQ(lines[2].cluster, 5);
   EXPECT_EQ(lines[2].label, "object 5, frames 12-15: no labelled object matched");
   // Truth 8 over object 2's frames only, in object 2's colour; one legend row for the dashes.
@@ -82,7 +82,7 @@ TEST(ObjectTrackPlot,
 TEST(ObjectTrackPlot, WithoutMetricsTheMatchOfTheIndexStillDrawsTheTruthAndNoErrorIsMadeUp) {
   const auto lines = ObjectTrackPlotLines(Outputs(), nullptr);
   ASSERT_GE(lines.size(), 4u);
-  EXPECT_EQ(lines[1].label, "object 2, frames 3-9: truth id 8, no motion error");
+  EXPECT_EQ(lines[1].label, "object 2 (Car), frames 3-9: truth id 8, no motion error");
   EXPECT_EQ(lines[2].label, "object 5, frames 12-15: no labelled object matched");
   EXPECT_TRUE(lines[3].dashed);
   EXPECT_EQ(lines[3].cluster, 2);
