@@ -67,7 +67,7 @@ int Demo(const DemoArgs& args) {
   });
   bar.Finish();
   const int code = FinishRun(input, result, options, args.out, stop);
-  std::printf("images: %s/render/trajectory.png", args.out.c_str());
+  std::printf("images: %s/render/trajectory.png, objects.png", args.out.c_str());
   if (result.renders.snapshots + result.renders.overlays > 0)
     std::printf(", %d snapshots and %d overlays in %s/render/", result.renders.snapshots,
                 result.renders.overlays, args.out.c_str());

@@ -7,12 +7,13 @@
 #include <string>
 
 #include "apps/command.h"
+#include "core/errors.h"
 #include "core/logging.h"
 #include "system/io/image_io.h"
-#include "core/errors.h"
 #include "system/pipeline/pipeline_options.h"
 #include "system/pipeline/run_input.h"
 #include "system/run/final_pictures.h"
+#include "system/run/object_track_plot.h"
 #include "system/run/output_folder.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs_reader.h"
@@ -63,6 +64,7 @@ int Render(const RenderArgs& args) {
   const std::string path = (std::filesystem::path(args.out) / "render" / "trajectory.png").string();
   WritePng(plot, path);
   std::printf("%s\n", path.c_str());
+  std::printf("%s\n", WriteObjectTrackPlot(outputs, args.out, args.width, args.height).c_str());
   if (samples.size() >= 2) {
     WriteResourceChart(samples, args.out);
     std::printf("%s\n", (std::filesystem::path(args.out) / "render" / "resources.png").c_str());

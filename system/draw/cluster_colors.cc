@@ -48,6 +48,7 @@ Eigen::Vector3f ColorForClusterUnit(int cluster) {
 
 cv::Vec3b TrajectoryColor(int cluster) {
   if (cluster == kUndrawnClusters) return {150, 150, 150};
+  if (cluster == kContextPath) return {170, 170, 170};
   if (cluster < 0) return {0, 0, 0};
   return ColorForCluster(cluster);
 }

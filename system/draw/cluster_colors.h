@@ -22,8 +22,11 @@ Eigen::Vector3f ColorForClusterUnit(int cluster);
 /// Cluster id of a legend-only trajectory line that stands for clusters not drawn (grey).
 constexpr int kUndrawnClusters = -2;
 
-/// RGB line colour of a trajectory: the camera (cluster -1) is black, kUndrawnClusters grey, a
-/// cluster's trajectory uses ColorForCluster.
+/// Cluster id of a path drawn faint, for context only (the camera in render/objects.png).
+constexpr int kContextPath = -3;
+
+/// RGB line colour of a trajectory: the camera (cluster -1) is black, kUndrawnClusters grey,
+/// kContextPath light grey, a cluster's trajectory uses ColorForCluster.
 cv::Vec3b TrajectoryColor(int cluster);
 
 /// Number of distinct colours before the moving-cluster palette repeats.

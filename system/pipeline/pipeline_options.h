@@ -91,7 +91,7 @@ struct OutputOptions {
   int snapshots_every = 0;     ///< render/snapshot_NNNNNN.png every N frames; 0 = none
   int overlays_every = 0;      ///< render/overlay_NNNNNN.png every N frames; 0 = none
   bool dense_snapshots = false;  ///< snapshots also show SGBM points clustered by landmark
-  bool trajectory_plot = true;   ///< render/trajectory.png
+  bool trajectory_plot = true;   ///< render/trajectory.png, objects.png and resources.png
   /// render/final_snapshot_NNNNNN.png and final_overlay_NNNNNN.png, drawn after the run from
   /// its final outputs at this many frames spread over it (system/run/final_pictures.h); 0 =
   /// none. snapshots_every / overlays_every are the online-state pictures, drawn during the run.

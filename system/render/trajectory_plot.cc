@@ -217,7 +217,7 @@ TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajecto
 }
 
 cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectories, int width,
-                                int height) {
+                                int height, const std::string& title) {
   const TopViewLayout layout = ComputeTopViewLayout(trajectories, width, height);
   const int ss = kSupersampling;
   const double step = layout.grid_step_m;
@@ -298,8 +298,7 @@ cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectorie
   PutLabel(image, "z [m]", {layout.plot_left - 8, layout.plot_top - 12}, TextAlign::kRight, 0.55);
   // The title spans the plot and a legend column beside it.
   const int title_right = std::max(layout.plot_right, layout.legend.br().x);
-  PutLabel(image, "Trajectories, top view (x-z plane of the first camera frame)",
-           {(layout.plot_left + title_right) / 2, 30}, TextAlign::kCentre, 0.65);
+  PutLabel(image, title, {(layout.plot_left + title_right) / 2, 30}, TextAlign::kCentre, 0.65);
 
   // Scale bar: one grid step.
   const cv::Rect& bar_box = layout.scale_bar;

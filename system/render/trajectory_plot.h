@@ -4,6 +4,7 @@
 // legend. The world frame is the first camera frame (x right, y down, z forward).
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "system/draw/render_scene.h"
@@ -33,11 +34,16 @@ struct TopViewLayout {
 TopViewLayout ComputeTopViewLayout(const std::vector<RenderTrajectory>& trajectories, int width,
                                    int height);
 
-/// Draws the trajectories (camera black, clusters in ColorForCluster, ground truth dashed) on
-/// white with the grid, axis labels in metres, a scale bar and a legend of the labels. Returns
-/// an 8-bit BGR image. Renders in its own OffscreenContext, so calls may run concurrently on
-/// different threads. Throws cslam::Error when offscreen rendering is unavailable.
-cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectories,
-                                int width = 1200, int height = 900);
+/// The title RenderTrajectoryTopView writes above the plot unless given another.
+inline constexpr const char* kTopViewTitle =
+    "Trajectories, top view (x-z plane of the first camera frame)";
+
+/// Draws the trajectories (each in TrajectoryColor: camera black, clusters in ColorForCluster,
+/// ground truth dashed) on white with the grid, axis labels in metres, a scale bar, a legend of
+/// the labels and `title` above. Returns an 8-bit BGR image. Renders in its own
+/// OffscreenContext, so calls may run concurrently on different threads. Throws cslam::Error
+/// when offscreen rendering is unavailable.
+cv::Mat RenderTrajectoryTopView(const std::vector<RenderTrajectory>& trajectories, int width = 1200,
+                                int height = 900, const std::string& title = kTopViewTitle);
 
 }  // namespace cslam

@@ -15,7 +15,8 @@ int PlacingPoseIndex(const Trajectory& cluster, int last_frame) {
   return static_cast<int>(cluster.size()) - 1;
 }
 
-RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int last_frame) {
+RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int last_frame,
+                                       int first_frame) {
   const auto match = outputs.gt_object_match.find(id);
   const std::string type = match == outputs.gt_object_match.end() ? "object" : match->second.first;
   const int cluster = match == outputs.gt_object_match.end() ? -1 : match->second.second;
@@ -26,8 +27,10 @@ RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int la
                         {}, cluster >= 1 ? cluster : kUndrawnClusters, true};
   const Trajectory& t = outputs.gt_objects.at(id);
   for (size_t k = 0; k < t.size() && t.frames[k] <= last_frame; ++k) {
+    if (t.frames[k] < first_frame) continue;
     // No line across frames without a label: the object was out of view there.
-    if (k > 0 && t.frames[k] > t.frames[k - 1] + 1) line.positions.push_back(Eigen::Vector3d::Constant(NAN));
+    if (!line.positions.empty() && t.frames[k] > t.frames[k - 1] + 1)
+      line.positions.push_back(Eigen::Vector3d::Constant(NAN));
     line.positions.push_back(t.poses[k].translation());
   }
   return line;

@@ -46,10 +46,12 @@ struct RunOutputs {
   std::map<int, std::vector<RunKeypoint>> keypoints;
 };
 
-/// The dashed line of ground-truth object `id` (outputs.gt_objects) up to `last_frame`, in its
-/// matched cluster's colour (grey when no cluster was matched to it): "truth of object C (type,
-/// id N)" or "truth type, id N, not found" (synthetic objects have no type).
-RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int last_frame);
+/// The dashed line of ground-truth object `id` (outputs.gt_objects) from `first_frame` to
+/// `last_frame`, in its matched cluster's colour (grey when no cluster was matched to it):
+/// "truth of object C (type, id N)" or "truth type, id N, not found" (synthetic objects have no
+/// type).
+RenderTrajectory GroundTruthObjectLine(const RunOutputs& outputs, int id, int last_frame,
+                                       int first_frame = 0);
 
 /// A moving cluster's landmark centroid in its own frame and how many landmarks it averages.
 struct ClusterCentroid {

@@ -19,49 +19,50 @@ const Eigen::Vector3d kLineBreak =
 
 }  // namespace
 
-std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
-                                                     const TrajectoryPlotOptions& options) {
-  std::vector<RenderTrajectory> trajs;
-  if (!outputs.gt_camera.empty()) {
-    RenderTrajectory gt{"camera (ground truth)", {}, -1, true};
-    for (const Pose& p : outputs.gt_camera.poses) gt.positions.push_back(p.translation());
-    trajs.push_back(gt);
-  }
-  for (const auto& [id, t] : outputs.gt_objects)
-    if (t.size() >= 2) trajs.push_back(GroundTruthObjectLine(outputs, id, t.frames.back()));
-  RenderTrajectory cam{"camera", {}, -1, false};
-  const Trajectory& camera = outputs.camera;
+RenderTrajectory CameraPathLine(const Trajectory& camera, RenderTrajectory line, int first_frame,
+                                int last_frame) {
   for (size_t k = 0; k < camera.size(); ++k) {
-    if (k > 0 && camera.HasFrames() && camera.frames[k] > camera.frames[k - 1] + 1)
-      cam.positions.push_back(kLineBreak);  // tracking lost: no path was estimated there
-    cam.positions.push_back(camera.poses[k].translation());
+    const int f = camera.HasFrames() ? camera.frames[k] : static_cast<int>(k);
+    if (f < first_frame || f > last_frame) continue;
+    if (!line.positions.empty() && camera.HasFrames() && k > 0 && f > camera.frames[k - 1] + 1)
+      line.positions.push_back(kLineBreak);  // tracking lost: no path was estimated there
+    line.positions.push_back(camera.poses[k].translation());
   }
-  trajs.push_back(cam);
+  return line;
+}
+
+std::vector<RenderTrajectory> ClusterTrackLines(const RunOutputs& outputs,
+                                                const TrajectoryPlotOptions& options,
+                                                const std::string& picture, int* too_small) {
   // Clusters are plotted when they stay within this distance of the camera's start: the
   // camera's own extent plus a margin for objects seen far ahead.
-  const Eigen::Vector3d start =
-      cam.positions.empty() ? Eigen::Vector3d::Zero() : cam.positions.front();
+  const Trajectory& camera = outputs.camera;
+  const Eigen::Vector3d start = camera.empty()
+                                    ? Eigen::Vector3d::Zero()
+                                    : Eigen::Vector3d(camera.poses.front().translation());
   double plot_radius_m = 100.0;
-  for (const auto& p : cam.positions)
-    if (p.allFinite()) plot_radius_m = std::max(plot_radius_m, (p - start).norm() + 100.0);
+  for (const Pose& p : camera.poses)
+    if (p.translation().allFinite())
+      plot_radius_m = std::max(plot_radius_m, (p.translation() - start).norm() + 100.0);
   // Each cluster is drawn through its landmarks' centroid rather than its frame origin.
   const std::map<int, ClusterCentroid> centroids = ClusterCentroids(outputs);
   auto log = GetLogger("system");
   // Biggest first, so the legend names the objects before the fragments.
   std::vector<std::pair<int, int>> order;  // (landmarks, id)
-  int too_small = 0;
+  *too_small = 0;
   for (const auto& [id, c] : outputs.clusters) {
     const auto it = centroids.find(id);
     const int n = it == centroids.end() ? 0 : it->second.landmarks;
     if (c.size() < 2) continue;
     if (static_cast<int>(c.size()) < options.min_poses || n < options.min_landmarks) {
-      ++too_small;
+      ++*too_small;
       continue;
     }
     order.emplace_back(n, id);
   }
   std::stable_sort(order.begin(), order.end(),
                    [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<RenderTrajectory> lines;
   for (const auto& [n, id] : order) {
     const Trajectory& c = outputs.clusters.at(id);
     // The landmark count and frame span tell an object (hundreds of points, many frames)
@@ -84,13 +85,30 @@ std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
       t.positions.push_back(p);
     }
     if (diverged) {
-      log->warn("render/trajectory.png: cluster {} left out, it strays more than {:.0f} m from "
-                "the camera's path",
-                id, plot_radius_m);
+      log->warn("{}: cluster {} left out, it strays more than {:.0f} m from the camera's path",
+                picture, id, plot_radius_m);
       continue;
     }
-    trajs.push_back(t);
+    lines.push_back(t);
   }
+  return lines;
+}
+
+std::vector<RenderTrajectory> RunTrajectoryPlotLines(const RunOutputs& outputs,
+                                                     const TrajectoryPlotOptions& options) {
+  std::vector<RenderTrajectory> trajs;
+  if (!outputs.gt_camera.empty()) {
+    RenderTrajectory gt{"camera (ground truth)", {}, -1, true};
+    for (const Pose& p : outputs.gt_camera.poses) gt.positions.push_back(p.translation());
+    trajs.push_back(gt);
+  }
+  for (const auto& [id, t] : outputs.gt_objects)
+    if (t.size() >= 2) trajs.push_back(GroundTruthObjectLine(outputs, id, t.frames.back()));
+  trajs.push_back(CameraPathLine(outputs.camera, {"camera", {}, -1, false}));
+  int too_small = 0;
+  for (RenderTrajectory& t :
+       ClusterTrackLines(outputs, options, "render/trajectory.png", &too_small))
+    trajs.push_back(std::move(t));
   if (too_small > 0)
     trajs.push_back({"+ " + std::to_string(too_small) + " small clusters not drawn (< " +
                          std::to_string(options.min_landmarks) + " points or < " +

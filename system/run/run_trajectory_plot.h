@@ -2,7 +2,9 @@
 // render/trajectory.png of a run, drawn from its outputs (RunOutputs): the one function both
 // the run writer and `cslam render` call, so a re-render of an untouched run gives the same
 // picture.
+#include <limits>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "system/draw/render_scene.h"
@@ -17,6 +19,20 @@ struct TrajectoryPlotOptions {
   int min_poses = 10;      ///< a cluster needs this many poses to be drawn (>= 2: a line)
   int min_landmarks = 15;  ///< ... and this many landmarks in landmarks.ply (0: any)
 };
+
+/// The camera's path (`camera`'s positions) from `first_frame` to `last_frame` into `line`,
+/// broken where tracking was lost (frames without a pose).
+RenderTrajectory CameraPathLine(const Trajectory& camera, RenderTrajectory line,
+                                int first_frame = 0,
+                                int last_frame = std::numeric_limits<int>::max());
+
+/// Each cluster that passes `options` as the path of its landmarks' centroid, broken at frames
+/// without a pose, labelled with its points and frame span, biggest cluster first. A cluster
+/// straying more than 100 m beyond the camera's own extent is left out with a warning in the
+/// log naming `picture`. `too_small` counts the clusters `options` left out.
+std::vector<RenderTrajectory> ClusterTrackLines(const RunOutputs& outputs,
+                                                const TrajectoryPlotOptions& options,
+                                                const std::string& picture, int* too_small);
 
 /// The lines of the plot: the ground truth (dashed, when there is one), the camera, and each
 /// cluster that passes `options` as the path of its landmarks' centroid, biggest cluster

@@ -8,13 +8,14 @@
 #include "core/errors.h"
 #include "core/logging.h"
 #include "core/timer.h"
+#include "system/draw/render_scene.h"
 #include "system/eval/trajectory_io.h"
 #include "system/io/image_io.h"
-#include "system/draw/render_scene.h"
 #include "system/render/point_cloud_export.h"
 #include "system/run/final_pictures.h"
 #include "system/run/ground_truth_objects.h"
 #include "system/run/object_motion_file.h"
+#include "system/run/object_track_plot.h"
 #include "system/run/resource_chart.h"
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
@@ -220,6 +221,7 @@ std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
     attempt("render/trajectory.png", [&] {
       WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
     });
+    attempt("render/objects.png", [&] { WriteObjectTrackPlot(outputs, out_dir); });
     attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
   }
   if (options.output.view_page)

@@ -26,7 +26,8 @@ RunOutputs WriteRunOutputs(const RunInput& input, const PipelineResult& result,
 inline constexpr int kOverlayTrailFrames = 6;
 
 /// Draws the run's pictures from its final outputs into `out_dir`/render: trajectory.png
-/// (RenderRunTrajectoryPlot), resources.png, and with `input` (its camera and images) the
+/// (RenderRunTrajectoryPlot), objects.png (WriteObjectTrackPlot, with the metrics.json already
+/// in `out_dir`), resources.png, and with `input` (its camera and images) the
 /// final-state snapshots and overlays of system/run/final_pictures.h, as options.output asks.
 /// A picture that cannot be drawn or written does not stop the others; returns one line per
 /// picture not written ("render/trajectory.png: why").

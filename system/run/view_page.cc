@@ -223,7 +223,8 @@ layers.forEach(function(L){var lab=document.createElement('label');var cb=docume
 var thin=document.getElementById('thin');
 if(D.thin.every>1)thin.textContent='static points thinned to every '+D.thin.every+'th: '+D.thin.kept+' of '+D.thin.total+' shown (page size limit)';
 var slider=document.getElementById('slider');slider.max=D.frames.length-1;
-var cur=0;
+var cur=0,shown={},selected=null,hookLog=[];
+function frameIndex(want){var k=0;while(k<D.frames.length-1&&D.frames[k]<want)k++;return k;}
 function visibleObjects(f){return objects.filter(function(o){return o.layer.on&&o.index[f]!==undefined;});}
 function update(){
  var f=D.frames[cur];frameUniform.value=f;
@@ -238,8 +239,10 @@ function update(){
  var vis=visibleObjects(f).map(function(o){return o.id;});
  document.getElementById('label').textContent='frame '+f+' ('+(cur+1)+' of '+D.frames.length+'), objects in view: '+(vis.length?vis.join(', '):'none');
  slider.value=cur;
- document.getElementById('state').textContent=JSON.stringify({frame:f,points_drawn:drawn,objects_visible:vis,errors:window.cslamErrors});
+ shown={frame:f,points_drawn:drawn,objects_visible:vis};report();
 }
+function report(){document.getElementById('state').textContent=JSON.stringify({frame:shown.frame,points_drawn:shown.points_drawn,
+ objects_visible:shown.objects_visible,selected:selected,hooks:hookLog,errors:window.cslamErrors});}
 slider.oninput=function(){cur=parseInt(slider.value);update();};
 var timer=null;
 document.getElementById('play').onclick=function(){var b=this;if(timer){clearInterval(timer);timer=null;b.textContent='play';return;}
@@ -249,20 +252,41 @@ renderer.domElement.addEventListener('click',function(e){
  var m=new THREE.Vector2(e.clientX/W*2-1,-e.clientY/H*2+1);ray.setFromCamera(m,camera);
  var hits=ray.intersectObjects(objects.filter(function(o){return o.points.visible;}).map(function(o){return o.points;}));
  var info=document.getElementById('info');
- if(!hits.length){info.textContent='click an object\'s points';return;}
- var o=hits[0].object.userData.object;var t='object '+o.id+'\nframes '+o.frames[0]+'-'+o.frames[o.frames.length-1]+' ('+o.frames.length+' poses)\nlandmarks '+o.landmarks;
+ if(!hits.length){info.textContent='click an object\'s points';selected=null;report();return;}
+ var o=hits[0].object.userData.object;selected=o.id;var t='object '+o.id+'\nframes '+o.frames[0]+'-'+o.frames[o.frames.length-1]+' ('+o.frames.length+' poses)\nlandmarks '+o.landmarks;
  D.gt.forEach(function(g){if(g.cluster===o.id)t+='\nground truth: id '+g.id+' ('+g.type+')';});
  if(o.metrics){for(var k in o.metrics){if(k!=='cluster')t+='\n'+k+': '+(typeof o.metrics[k]==='number'?+o.metrics[k].toFixed(3):o.metrics[k]);}}
  else t+='\nno metrics (no labelled object matched)';
- info.textContent=t;});
+ info.textContent=t;report();});
 // The view: above and behind the middle of the camera's path, looking at it.
 var box=new THREE.Box3().setFromBufferAttribute(camPath.geometry.getAttribute('position'));
 var centre=box.getCenter(new THREE.Vector3()),size=Math.max(20,box.getSize(new THREE.Vector3()).length());
 camera.position.set(centre.x,centre.y-0.7*size,centre.z-0.6*size);controls.target.copy(centre);controls.update();
-var m=/frame=(\d+)/.exec(window.location.hash);
-if(m){var want=parseInt(m[1]);cur=0;while(cur<D.frames.length-1&&D.frames[cur]<want)cur++;}
+// The URL fragment: frame=N opens the page at frame N. slide=N and click=ID drive the real
+// controls through their own event handlers, for the browser test and for links to a view:
+// slide=N moves the slider to frame N and fires its input event; click=ID sends a click to
+// the canvas at the pixel of object ID's point nearest the viewer among those no panel covers,
+// so the page's own picking (a ray through that pixel) has to find the object.
+var hooks={};window.location.hash.replace(/^#/,'').split('&').forEach(function(kv){var p=kv.split('=');if(p.length===2)hooks[p[0]]=p[1];});
+if(hooks.frame!==undefined)cur=frameIndex(parseInt(hooks.frame));
 update();
-function animate(){requestAnimationFrame(animate);renderer.render(scene,camera);}
+function slideTo(f){hookLog.push('slide '+f);slider.value=frameIndex(f);slider.dispatchEvent(new Event('input',{bubbles:true}));}
+function clickObject(id){
+ var o=objects.filter(function(x){return x.id===id;})[0];
+ if(!o||!o.points.visible){hookLog.push('click '+id+': not in view at frame '+D.frames[cur]);report();return;}
+ var pos=o.points.geometry.getAttribute('position'),v=new THREE.Vector3(),best=null,bestD=Infinity;
+ for(var i=0;i<pos.count;i++){v.fromBufferAttribute(pos,i).applyMatrix4(o.points.matrixWorld);var d=v.distanceTo(camera.position);
+  var s=v.clone().project(camera);var x=(s.x+1)/2*W,y=(1-s.y)/2*H;
+  if(d>=bestD||s.z>1||x<1||y<1||x>W-2||y>H-2||document.elementFromPoint(x,y)!==renderer.domElement)continue;
+  bestD=d;best={x:x,y:y};}
+ if(!best){hookLog.push('click '+id+': no point of it on screen');report();return;}
+ var at=document.elementFromPoint(best.x,best.y);hookLog.push('click '+id+' at '+Math.round(best.x)+','+Math.round(best.y));
+ at.dispatchEvent(new MouseEvent('click',{clientX:best.x,clientY:best.y,bubbles:true,cancelable:true,view:window}));}
+// One step per drawn frame, so each acts on what the one before it showed.
+var steps=[];
+if(hooks.slide!==undefined)steps.push(function(){slideTo(parseInt(hooks.slide));});
+if(hooks.click!==undefined)steps.push(function(){clickObject(parseInt(hooks.click));});
+function animate(){requestAnimationFrame(animate);renderer.render(scene,camera);var s=steps.shift();if(s)s();}
 animate();
 })();
 </script></body></html>

@@ -5,8 +5,10 @@
 // a frame slider and a play button show the camera, each object's points and pose (its axes)
 // at a frame and the points observed then; layers switch static points, outliers, each object and the
 // ground truth; clicking an object shows its id, frames, landmarks and metrics. The page
-// reports its own state (frame, points drawn, objects visible, script errors) in the element
-// #state, which the browser test reads.
+// reports its own state (frame, points drawn, objects visible, the object clicked, script
+// errors) in the element #state, which the browser test reads. The URL fragment opens it at a
+// frame (#frame=N) or drives its controls through their own event handlers: #slide=N moves the
+// slider, #slide=N&click=ID then clicks where object ID is drawn.
 #include <string>
 
 #include "system/run/run_outputs.h"

@@ -96,6 +96,7 @@ TEST_F(CliOutputs, ARenderFolderThatCannotBeWrittenLosesNoResultAndExitsThree) {
   EXPECT_FALSE(r.signalled) << r.err;
   EXPECT_EQ(r.exit_code, kExitOutputError) << r.err;
   EXPECT_THAT(r.err, HasSubstr("picture not written: render/trajectory.png"));
+  EXPECT_THAT(r.err, HasSubstr("picture not written: render/objects.png"));
   EXPECT_THAT(r.out, HasSubstr("camera: ATE"));  // the summary
   for (const char* f : {"metrics.json", "camera_trajectory.txt", "camera_trajectory.tum", "clusters.csv"})
     EXPECT_GT(fs::file_size(out() / f), 0u) << f;

@@ -1,14 +1,19 @@
 // `cslam render OUT` on the outputs of a real (small) `cslam run`, run as a user would: the
-// picture comes back identical to the run's own, and a missing or corrupt output file is
-// named with the documented exit code, leaving the old picture in place.
+// pictures (trajectory.png, objects.png) come back identical to the run's own, and a missing or
+// corrupt output file is named with the documented exit code, leaving the old picture in place.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/errors.h"
 #include "system/draw/cluster_colors.h"
+#include "system/eval/metrics_json.h"
+#include "system/render/trajectory_plot.h"
+#include "system/run/object_track_plot.h"
 #include "system/run/run_outputs_reader.h"
 #include "system/run/run_trajectory_plot.h"
 #include "tests/apps/subprocess.h"
@@ -92,6 +97,47 @@ TEST_F(CliRender, RerenderOfAnUntouchedRunIsPixelEqualToTheRunsOwn) {
   }
 }
 
+TEST_F(CliRender, ObjectsPictureDrawsEachObjectsTrackInItsColourAndRenderDrawsItTheSame) {
+  const fs::path objects = out() / "render" / "objects.png";
+  const cv::Mat original = cv::imread(objects.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(original.empty()) << "the run wrote no " << objects;
+  EXPECT_EQ(original.size(), cv::Size(1200, 900));
+  fs::remove_all(out() / "render");
+  const auto r = Render();
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const cv::Mat again = cv::imread(objects.string(), cv::IMREAD_COLOR);
+  ASSERT_EQ(again.size(), original.size()) << r.err;
+  cv::Mat diff;
+  cv::absdiff(original, again, diff);
+  double max_diff = 0;
+  cv::minMaxLoc(diff.reshape(1), nullptr, &max_diff);
+  EXPECT_EQ(max_diff, 0.0) << "the re-render differs from the run's own picture";
+
+  // Every object's track shows in its colour over most of its length (other tracks and the
+  // dashed truth may cross it), and the legend gives the matched ones' motion errors.
+  std::ifstream metrics_file(out() / "metrics.json");
+  const RunMetrics metrics = RunMetricsFromJson(nlohmann::json::parse(metrics_file));
+  const auto lines = ObjectTrackPlotLines(ReadRunOutputs(out().string()), &metrics);
+  const TopViewLayout layout = ComputeTopViewLayout(lines, 1200, 900);
+  int tracks = 0, with_errors = 0;
+  for (const RenderTrajectory& t : lines) {
+    if (t.cluster < 1 || t.dashed) continue;
+    ++tracks;
+    with_errors += t.label.find(": ME_r ") != std::string::npos;
+    double shown = 0, length = 0;
+    for (size_t k = 1; k < t.positions.size(); ++k) {
+      if (!t.positions[k - 1].allFinite() || !t.positions[k].allFinite()) continue;
+      const Eigen::Vector2d a = layout.ToPixel(t.positions[k - 1]),
+                            b = layout.ToPixel(t.positions[k]);
+      shown += (b - a).norm() * testing::SegmentCoverage(again, a, b, BgrForCluster(t.cluster), 40);
+      length += (b - a).norm();
+    }
+    if (length > 5) EXPECT_GT(shown / length, 0.6) << t.label;
+  }
+  EXPECT_GT(tracks, 0) << "the run reported no object: nothing coloured to check";
+  EXPECT_GT(with_errors, 0) << "no object's legend row carries its ME_r / ME_t";
+}
+
 TEST_F(CliRender, GroundTruthOfTheEstimatedFramesIsAmongTheOutputs) {
   const auto estimate = testing::Lines(testing::ReadText(out() / "camera_trajectory.txt"));
   const auto truth = testing::Lines(testing::ReadText(out() / "camera_trajectory_gt.txt"));
@@ -104,6 +150,8 @@ TEST_F(CliRender, SizeFlagsSetThePictureSize) {
   const auto r = Render({"--width", "640", "--height", "480"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(cv::imread(png().string(), cv::IMREAD_COLOR).size(), cv::Size(640, 480));
+  EXPECT_EQ(cv::imread((out() / "render" / "objects.png").string(), cv::IMREAD_COLOR).size(),
+            cv::Size(640, 480));
 }
 
 TEST_F(CliRender, MissingCameraTrajectoryIsNamedAndNothingIsWritten) {

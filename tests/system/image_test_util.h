@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <opencv2/core.hpp>
@@ -39,6 +40,18 @@ inline ::testing::AssertionResult ColourNear(const cv::Mat& image, const Eigen::
          << "no pixel within " << radius << " px of (" << px.x() << ", " << px.y()
          << ") has BGR " << cv::Vec3i(bgr) << " (closest " << cv::Vec3i(best_pixel)
          << ", off by " << best << ")";
+}
+
+/// Fraction of 1-px steps along the pixel segment pa-pb where a pixel within 1 px has colour
+/// `bgr` up to `tolerance` (how much of a drawn line shows).
+inline double SegmentCoverage(const cv::Mat& image, const Eigen::Vector2d& pa,
+                              const Eigen::Vector2d& pb, const cv::Vec3b& bgr, int tolerance) {
+  const int steps = std::max(1, static_cast<int>((pb - pa).norm()));
+  int hits = 0;
+  for (int i = 0; i <= steps; ++i)
+    hits += static_cast<bool>(
+        ColourNear(image, pa + (pb - pa) * (double(i) / steps), bgr, 1, tolerance));
+  return double(hits) / (steps + 1);
 }
 
 /// Number of pixels of colour `bgr` up to `tolerance`.

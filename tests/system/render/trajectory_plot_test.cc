@@ -31,13 +31,7 @@ std::vector<RenderTrajectory> Scene() {
 /// Fraction of 1-px steps along the segment a-b (world) where the colour shows.
 double Coverage(const cv::Mat& image, const TopViewLayout& layout, const Eigen::Vector3d& a,
                 const Eigen::Vector3d& b, const cv::Vec3b& bgr, int tolerance) {
-  const Eigen::Vector2d pa = layout.ToPixel(a), pb = layout.ToPixel(b);
-  const int steps = static_cast<int>((pb - pa).norm());
-  int hits = 0;
-  for (int i = 0; i <= steps; ++i)
-    hits += static_cast<bool>(
-        ColourNear(image, pa + (pb - pa) * (double(i) / steps), bgr, 1, tolerance));
-  return double(hits) / (steps + 1);
+  return testing::SegmentCoverage(image, layout.ToPixel(a), layout.ToPixel(b), bgr, tolerance);
 }
 
 TEST(TrajectoryPlot, LayoutFitsAllPositionsWithEqualAxes) {
