@@ -27,6 +27,8 @@ void SyntheticOptions::Check() const {
               "must be in [0, 3] px", noise_px);
   CheckOption(std::isfinite(landmark_density) && landmark_density > 0.0 && landmark_density <= 20.0,
               "landmark_density", "must be in (0, 20]", landmark_density);
+  CheckOption(baseline_m == 0.0 || (baseline_m >= 0.01 && baseline_m <= 2.0), "baseline_m",
+              "must be 0 (the preset's) or in [0.01, 2] m", baseline_m);
 }
 
 void SyntheticOptions::Load(OptionsReader& reader) {
@@ -37,6 +39,7 @@ void SyntheticOptions::Load(OptionsReader& reader) {
   reader.Read("noise_px", &noise_px);
   reader.Read("gaussian_noise", &gaussian_noise);
   reader.Read("landmark_density", &landmark_density);
+  reader.Read("baseline_m", &baseline_m);
 }
 
 double SyntheticSequence::CameraTravel() const {
@@ -148,7 +151,7 @@ SyntheticSequence GenerateSynthetic(const SyntheticOptions& options) {
 
   SyntheticSequence seq;
   seq.name = options.preset + "_seed" + std::to_string(options.seed);
-  seq.camera = PaperCamera(preset.baseline_m);
+  seq.camera = PaperCamera(options.baseline_m > 0 ? options.baseline_m : preset.baseline_m);
   const double density_scale =
       options.landmark_density * scene_rng.Uniform(preset.min_density_scale, preset.max_density_scale);
   Draft draft = outdoor ? BuildOutdoor(options, seq.camera, scene_rng, traj_rng)

@@ -29,6 +29,9 @@ struct SyntheticOptions {
   double noise_px = 1.5;           ///< pixel noise on uL, vL, uR: uniform half-width or sigma, px
   bool gaussian_noise = false;     ///< false: uniform in [-noise_px, noise_px]; true: N(0, noise_px²)
   double landmark_density = 1.0;   ///< multiplies the preset's surface point density, > 0
+  /// Stereo baseline, m; 0 = the preset's. Only the right camera moves: the scene, the
+  /// trajectories and the landmarks are those of the preset's baseline for the same seed.
+  double baseline_m = 0.0;
 
   /// Throws ConfigError naming the field and the rule.
   void Check() const;

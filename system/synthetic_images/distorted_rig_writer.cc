@@ -12,8 +12,7 @@
 #include "core/options_reader.h"
 #include "system/datasets/rig_calibration.h"
 #include "system/io/image_io.h"
-#include "system/io/input_files.h"
-#include "system/synthetic/synthetic_image_io.h"
+#include "system/synthetic_images/synthetic_renderer.h"
 
 namespace cslam {
 
@@ -23,22 +22,18 @@ void DistortedRigOptions::Check() const {
   CheckOption(lens != LensModel::kNone, "lens", "must be radtan or equidistant", 0);
   CheckOption(std::abs(right_rotation_deg) <= 10, "right_rotation_deg", "must be within +-10 degrees",
               right_rotation_deg);
+  CheckOption(supersample >= 1 && supersample <= 4, "supersample", "must be in [1, 4]", supersample);
 }
 
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// For each raw pixel, where its ray meets the rendered (rectified) image: undistort it, rotate
-// it into the rectified frame, project it with the rendered camera.
-void RawToRendered(const CameraIntrinsics& raw, const Eigen::Matrix3d& rect_from_raw, const StereoCamera& rendered,
-                   cv::Mat* map_x, cv::Mat* map_y) {
-  std::vector<cv::Point2f> pixels;
-  pixels.reserve(static_cast<size_t>(raw.width * raw.height));
-  for (int v = 0; v < raw.height; ++v)
-    for (int u = 0; u < raw.width; ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+// Where the rays through the raw pixel positions `pixels` meet the image plane of the pinhole
+// camera `k_rect` in the rectified frame: undistort, rotate into the rectified frame, project.
+std::vector<cv::Point2f> RawToRectified(const CameraIntrinsics& raw, const Eigen::Matrix3d& rect_from_raw,
+                                        const std::vector<cv::Point2f>& pixels, const cv::Mat& k_rect) {
   const cv::Mat k = (cv::Mat_<double>(3, 3) << raw.fx, 0, raw.cx, 0, raw.fy, raw.cy, 0, 0, 1);
-  const cv::Mat p = (cv::Mat_<double>(3, 3) << rendered.fx, 0, rendered.cx, 0, rendered.fy, rendered.cy, 0, 0, 1);
   cv::Mat r(3, 3, CV_64F);
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) r.at<double>(i, j) = rect_from_raw(i, j);
@@ -48,17 +43,91 @@ void RawToRendered(const CameraIntrinsics& raw, const Eigen::Matrix3d& rect_from
   // calibration they come with. Iterate to convergence.
   const cv::TermCriteria converge(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-12);
   if (raw.lens == LensModel::kEquidistant)
-    cv::fisheye::undistortPoints(pixels, out, k, raw.distortion, r, p, converge);
+    cv::fisheye::undistortPoints(pixels, out, k, raw.distortion, r, k_rect, converge);
   else
-    cv::undistortPoints(pixels, out, k, raw.distortion, r, p, converge);
-  map_x->create(raw.height, raw.width, CV_32FC1);
-  map_y->create(raw.height, raw.width, CV_32FC1);
-  for (int v = 0; v < raw.height; ++v)
-    for (int u = 0; u < raw.width; ++u) {
-      const cv::Point2f& q = out[static_cast<size_t>(v * raw.width + u)];
-      map_x->at<float>(v, u) = q.x;
-      map_y->at<float>(v, u) = q.y;
+    cv::undistortPoints(pixels, out, k, raw.distortion, r, k_rect, converge);
+  return out;
+}
+
+// Raw pixel positions: the centres of a k x k grid of sub-pixels of every pixel, one list per
+// sub-pixel (a raw pixel's value is the mean over its footprint).
+std::vector<std::vector<cv::Point2f>> SubPixelGrids(int width, int height, int k) {
+  std::vector<std::vector<cv::Point2f>> grids;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      const float du = static_cast<float>((j + 0.5) / k - 0.5), dv = static_cast<float>((i + 0.5) / k - 0.5);
+      std::vector<cv::Point2f>& g = grids.emplace_back();
+      g.reserve(static_cast<size_t>(width * height));
+      for (int v = 0; v < height; ++v)
+        for (int u = 0; u < width; ++u) g.emplace_back(static_cast<float>(u) + du, static_cast<float>(v) + dv);
     }
+  return grids;
+}
+
+cv::Mat KOf(const StereoCamera& c) { return (cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1); }
+
+// The pinhole camera in the rectified frame, `k` times finer than the rendered one, whose
+// image holds every ray of both raw cameras' pixels (with a margin for their footprints).
+StereoCamera FineCamera(const StereoCamera& rendered, const std::vector<cv::Point2f>& raw_rays_a,
+                        const std::vector<cv::Point2f>& raw_rays_b, int k) {
+  float lo_x = 0, lo_y = 0, hi_x = static_cast<float>(rendered.width - 1), hi_y = static_cast<float>(rendered.height - 1);
+  for (const auto* rays : {&raw_rays_a, &raw_rays_b})
+    for (const cv::Point2f& q : *rays) {
+      lo_x = std::min(lo_x, q.x);
+      lo_y = std::min(lo_y, q.y);
+      hi_x = std::max(hi_x, q.x);
+      hi_y = std::max(hi_y, q.y);
+    }
+  // A raw pixel's footprint reaches past its centre's ray by half a raw pixel, which a strong
+  // lens's corners stretch to a few rendered pixels.
+  constexpr int kMarginPx = 8;
+  const int left = static_cast<int>(std::ceil(-lo_x)) + kMarginPx, top = static_cast<int>(std::ceil(-lo_y)) + kMarginPx;
+  const int right = static_cast<int>(std::ceil(hi_x - (rendered.width - 1))) + kMarginPx;
+  const int bottom = static_cast<int>(std::ceil(hi_y - (rendered.height - 1))) + kMarginPx;
+  StereoCamera fine = rendered;
+  fine.fx = k * rendered.fx;
+  fine.fy = k * rendered.fy;
+  fine.cx = k * (rendered.cx + left + 0.5) - 0.5;
+  fine.cy = k * (rendered.cy + top + 0.5) - 0.5;
+  fine.width = k * (rendered.width + left + right);
+  fine.height = k * (rendered.height + top + bottom);
+  return fine;
+}
+
+// For each sub-pixel grid, the pair of remap tables into the fine rendering.
+struct FootprintMaps {
+  std::vector<cv::Mat> x, y;
+};
+
+FootprintMaps MapsInto(const CameraIntrinsics& raw, const Eigen::Matrix3d& rect_from_raw,
+                       const std::vector<std::vector<cv::Point2f>>& grids, const StereoCamera& fine) {
+  FootprintMaps maps;
+  for (const auto& grid : grids) {
+    const std::vector<cv::Point2f> q = RawToRectified(raw, rect_from_raw, grid, KOf(fine));
+    cv::Mat mx(raw.height, raw.width, CV_32FC1), my(raw.height, raw.width, CV_32FC1);
+    for (int v = 0; v < raw.height; ++v)
+      for (int u = 0; u < raw.width; ++u) {
+        const cv::Point2f& p = q[static_cast<size_t>(v * raw.width + u)];
+        mx.at<float>(v, u) = p.x;
+        my.at<float>(v, u) = p.y;
+      }
+    maps.x.push_back(mx);
+    maps.y.push_back(my);
+  }
+  return maps;
+}
+
+// The raw image: each pixel the mean of the fine rendering over its sub-pixels.
+cv::Mat RawImage(const cv::Mat& fine_image, const FootprintMaps& maps) {
+  cv::Mat sum = cv::Mat::zeros(maps.x[0].size(), CV_32FC1), sample, sample_f;
+  for (size_t s = 0; s < maps.x.size(); ++s) {
+    cv::remap(fine_image, sample, maps.x[s], maps.y[s], cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    sample.convertTo(sample_f, CV_32FC1);
+    sum += sample_f;
+  }
+  cv::Mat raw;
+  sum.convertTo(raw, CV_8UC1, 1.0 / static_cast<double>(maps.x.size()));
+  return raw;
 }
 
 bool Inside(const cv::Mat& mx, const cv::Mat& my, int width, int height);
@@ -164,8 +233,9 @@ std::string OrbSlam3Text(const StereoRig& rig) {
 }  // namespace
 
 std::string WriteDistortedRig(const SyntheticSequence& sequence, const std::string& dir,
-                              const DistortedRigOptions& options) {
+                              const DistortedRigOptions& options, const SyntheticRenderOptions& render) {
   options.Check();
+  render.Check();
   const StereoCamera& cam = sequence.camera;
   const bool fisheye = options.lens == LensModel::kEquidistant;
   const fs::path out = fs::path(dir) / (fisheye ? "rig_equidistant" : "rig_radtan");
@@ -194,15 +264,26 @@ std::string WriteDistortedRig(const SyntheticSequence& sequence, const std::stri
   // The raw focal length: the largest (in 2 % steps down from the rendered one) at which the
   // raw image still sees every rendered pixel, so that rectifying back to the rendered camera
   // (opencv_rectified.yml) leaves no pixel without data.
-  cv::Mat mx0, my0, mx1, my1;
   for (double scale = 1.0;; scale /= 1.02) {
     rig.cam0.fx = rig.cam0.fy = scale * cam.fx;
     rig.cam1.fx = rig.cam1.fy = scale * cam.fx * 1.003;
     if (CoversRendered(rig.cam0, rect0_from_raw0, cam) && CoversRendered(rig.cam1, rect1_from_raw1, cam)) break;
     if (scale < 0.25) throw InputError(dir, "cannot fit the rendered images inside the distorted rig's");
   }
-  RawToRendered(rig.cam0, rect0_from_raw0, cam, &mx0, &my0);
-  RawToRendered(rig.cam1, rect1_from_raw1, cam, &mx1, &my1);
+  // The raw images are drawn from a rendering of the rectified frame k times finer than the
+  // rendered camera and wide enough for every raw ray: resampling the rendered images instead
+  // would blur them once more than a real rig's images are blurred (the rectification is the
+  // only resampling a real rig goes through).
+  const int k = options.supersample;
+  const std::vector<std::vector<cv::Point2f>> grids = SubPixelGrids(cam.width, cam.height, k);
+  const std::vector<cv::Point2f> centres = SubPixelGrids(cam.width, cam.height, 1)[0];
+  const StereoCamera fine = FineCamera(cam, RawToRectified(rig.cam0, rect0_from_raw0, centres, KOf(cam)),
+                                       RawToRectified(rig.cam1, rect1_from_raw1, centres, KOf(cam)), k);
+  const FootprintMaps maps0 = MapsInto(rig.cam0, rect0_from_raw0, grids, fine);
+  const FootprintMaps maps1 = MapsInto(rig.cam1, rect1_from_raw1, grids, fine);
+  SyntheticRenderOptions fine_render = render;
+  fine_render.supersample = 1;
+  SyntheticRenderer renderer(sequence.geometry, fine, fine_render);
   Pose body_from_cam0 = Pose::Identity(), body_from_cam1 = Pose::Identity();
   body_from_cam0.linear() = rect0_from_raw0;
   body_from_cam1.linear() = rect1_from_raw1;
@@ -210,19 +291,14 @@ std::string WriteDistortedRig(const SyntheticSequence& sequence, const std::stri
   rig.cam1_from_cam0 = body_from_cam1.inverse() * body_from_cam0;
   rig.body_from_cam0 = body_from_cam0;
 
-  const std::string images = SyntheticImagesDir(dir);
   std::string csv = "#timestamp [ns],filename\n", gt = "# timestamp(s) tx ty tz qx qy qz qw (the rendered left camera)\n";
   for (int f = 0; f < sequence.num_frames(); ++f) {
     const long long ns = 1000000000LL + std::llround(sequence.timestamps[static_cast<size_t>(f)] * 1e9);
     const std::string name = std::to_string(ns) + ".png";
     csv += std::to_string(ns) + "," + name + "\n";
-    for (int c = 0; c < 2; ++c) {
-      const cv::Mat rendered =
-          LoadGreyImage((fs::path(images) / (c ? "image_1" : "image_0") / SyntheticFrameFile(f)).string());
-      cv::Mat raw;
-      cv::remap(rendered, raw, c ? mx1 : mx0, c ? my1 : my0, cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-      WritePng(raw, (out / "mav0" / (c ? "cam1" : "cam0") / "data" / name).string());
-    }
+    const RenderedStereoFrame frame = renderer.Render(sequence, f);
+    WritePng(RawImage(frame.left, maps0), (out / "mav0" / "cam0" / "data" / name).string());
+    WritePng(RawImage(frame.right, maps1), (out / "mav0" / "cam1" / "data" / name).string());
     const Pose& p = sequence.world_from_cam[static_cast<size_t>(f)];
     const Eigen::Quaterniond q(p.linear());
     char line[256];

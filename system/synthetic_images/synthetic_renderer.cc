@@ -40,6 +40,7 @@ void SyntheticRenderOptions::Check() const {
               "must be a finite non-zero vector", light_direction.norm());
   CheckOption(background_grey >= 0 && background_grey <= 255, "background_grey",
               "must be in [0, 255]", background_grey);
+  CheckOption(grey_noise >= 0 && grey_noise <= 20, "grey_noise", "must be in [0, 20] grey levels", grey_noise);
 }
 
 void SyntheticRenderOptions::Load(OptionsReader& reader) {
@@ -56,6 +57,10 @@ void SyntheticRenderOptions::Load(OptionsReader& reader) {
                       std::to_string(light.size()));
   light_direction = Eigen::Vector3d(light[0], light[1], light[2]);
   reader.Read("background_grey", &background_grey);
+  reader.Read("grey_noise", &grey_noise);
+  int noise_seed = static_cast<int>(grey_noise_seed);
+  reader.Read("grey_noise_seed", &noise_seed);
+  grey_noise_seed = static_cast<uint64_t>(noise_seed);
   int seed = static_cast<int>(texture_seed);
   reader.Read("texture_seed", &seed);
   texture_seed = static_cast<uint64_t>(seed);

@@ -44,6 +44,11 @@ struct SyntheticRenderOptions {
   Eigen::Vector3d light_direction{-0.4, -1.0, -0.5};
   int background_grey = 200;  ///< what a pixel showing no surface gets (sky), in [0, 255]
   uint64_t texture_seed = 1;  ///< seeds the texture pool
+  /// Written images only (WriteSyntheticImages): uniform integer noise in [-n, n] grey levels
+  /// added to each pixel, a perturbation that measures how much a run's results move when the
+  /// images change by next to nothing; 0 = none, in [0, 20].
+  int grey_noise = 0;
+  uint64_t grey_noise_seed = 1;  ///< seeds the grey noise (its own stream, per frame and camera)
 
   /// Throws ConfigError naming the field and the rule.
   void Check() const;

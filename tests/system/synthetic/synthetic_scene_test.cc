@@ -118,6 +118,23 @@ TEST(SyntheticScene, TracksAreContiguousAndReappearancesGetNewIds) {
   EXPECT_EQ(seq.observations.num_landmarks(), static_cast<int>(seq.landmark_object.size()));
 }
 
+TEST(SyntheticScene, AnotherBaselineMovesOnlyTheRightCamera) {
+  SyntheticOptions o = Small("outdoor", 2);
+  const SyntheticSequence preset = GenerateSynthetic(o);
+  o.baseline_m = 0.12;
+  const SyntheticSequence narrow = GenerateSynthetic(o);
+  EXPECT_EQ(preset.camera.baseline, 0.5);
+  EXPECT_EQ(narrow.camera.baseline, 0.12);
+  EXPECT_EQ(narrow.camera.fx, preset.camera.fx);
+  ASSERT_EQ(narrow.num_frames(), preset.num_frames());
+  ASSERT_EQ(narrow.num_objects(), preset.num_objects());
+  for (int f = 0; f < preset.num_frames(); ++f) {
+    EXPECT_TRUE(narrow.world_from_cam[f].isApprox(preset.world_from_cam[f], 1e-12)) << f;
+    for (int b = 0; b < preset.num_objects(); ++b)
+      EXPECT_TRUE(narrow.world_from_object[b][f].isApprox(preset.world_from_object[b][f], 1e-12)) << b << " " << f;
+  }
+}
+
 TEST(SyntheticScene, UniformNoiseIsBoundedWithTheRightSpread) {
   const double a = 1.5;
   const SyntheticSequence seq = GenerateSynthetic(Small("outdoor", 6, a));
@@ -254,12 +271,15 @@ TEST(SyntheticOptions, CheckNamesTheBrokenField) {
   o = SyntheticOptions();
   o.landmark_density = 0;
   EXPECT_NE(message(o).find("landmark_density"), std::string::npos);
+  o = SyntheticOptions();
+  o.baseline_m = 0.005;
+  EXPECT_NE(message(o).find("baseline_m"), std::string::npos);
 }
 
 TEST(SyntheticOptions, LoadReadsEveryField) {
   auto reader = OptionsReader::FromString(
       "preset: indoor\nseed: 7\nframes: 50\nobjects: 3\nnoise_px: 0.5\ngaussian_noise: true\n"
-      "landmark_density: 2.0\n",
+      "landmark_density: 2.0\nbaseline_m: 0.12\n",
       "test.yaml");
   SyntheticOptions o;
   reader.LoadInto(&o);
@@ -270,6 +290,7 @@ TEST(SyntheticOptions, LoadReadsEveryField) {
   EXPECT_EQ(o.noise_px, 0.5);
   EXPECT_TRUE(o.gaussian_noise);
   EXPECT_EQ(o.landmark_density, 2.0);
+  EXPECT_EQ(o.baseline_m, 0.12);
 }
 
 }  // namespace

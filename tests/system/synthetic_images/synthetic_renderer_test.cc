@@ -351,5 +351,34 @@ TEST(SyntheticImageIo, WrittenSequenceOpensAsKittiOdometryAndAsSyntheticWithImag
   EXPECT_THROW(ReadObjectIdImage(dir, 3), InputError);
 }
 
+TEST(SyntheticImageIo, GreyNoiseStaysWithinItsBoundAndFollowsItsSeed) {
+  testing::TempDir tmp("synthnoise");
+  SyntheticSequence s = Outdoor();
+  s.camera = Shrunk(s.camera, 2);
+  s.timestamps.resize(2);
+  s.world_from_cam.resize(2);
+  for (auto& t : s.world_from_object) t.resize(2);
+  s.observations = s.observations.Slice({0, 2});
+  SyntheticRenderOptions options;
+  options.grey_noise = 1;
+  std::vector<cv::Mat> lefts;
+  for (uint64_t seed : {1, 1, 2}) {
+    const std::string dir = (tmp.path() / std::to_string(lefts.size())).string();
+    WriteSynthetic(s, dir);
+    options.grey_noise_seed = seed;
+    WriteSyntheticImages(s, dir, options);
+    lefts.push_back(KittiOdometrySource(SyntheticImagesDir(dir)).Load(1).left);
+  }
+  SyntheticRenderer renderer(s.geometry, s.camera, SyntheticRenderOptions{});
+  const cv::Mat clean = renderer.Render(s, 1).left;
+  cv::Mat diff;
+  cv::absdiff(lefts[0], clean, diff);
+  EXPECT_EQ(cv::norm(diff, cv::NORM_INF), 1.0);
+  // Uniform in {-1, 0, 1}: two pixels in three change.
+  EXPECT_NEAR(cv::countNonZero(diff) / static_cast<double>(diff.total()), 2.0 / 3.0, 0.02);
+  EXPECT_EQ(cv::norm(lefts[0], lefts[1], cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(lefts[0], lefts[2], cv::NORM_INF), 0.0);
+}
+
 }  // namespace
 }  // namespace cslam
