@@ -85,7 +85,10 @@ TEST(AdjustObject, ANoisyTrackAndAShapeTenPercentSmallComeOutAsTheCarDroveAndIsB
   // Per frame, from 3° and about a metre of noise.
   EXPECT_LT(rotation, 0.5 * kDeg);
   EXPECT_LT(translation, 0.1);
-  // The shape is the car's again: its size within 3 % (from 10 % small).
+  // The shape grows back from 10 % small towards the car's size. Not to it exactly: with this
+  // noise over 5–12 px of disparity the joint fit has a small-sample bias of a few per cent
+  // (0.3 px: 1.02–1.06 between builds whose noise or arithmetic differ; 0.05 px: exact), so
+  // the bound is the 10 % it started from, more than halved.
   double ratio = 0;
   int pairs = 0;
   for (size_t i = 0; i < places.size(); ++i)
@@ -94,7 +97,7 @@ TEST(AdjustObject, ANoisyTrackAndAShapeTenPercentSmallComeOutAsTheCarDroveAndIsB
         ratio += (places[i] - places[j]).norm() / (drive.shape[i] - drive.shape[j]).norm();
         ++pairs;
       }
-  EXPECT_NEAR(ratio / pairs, 1.0, 0.03);
+  EXPECT_NEAR(ratio / pairs, 1.0, 0.07);
 }
 
 TEST(AdjustObject, ATrackThatWouldTurnTheBodyFasterThanACarCanIsNotKept) {

@@ -168,7 +168,11 @@ TEST(ObjectTracks, ACarItsWindowsPutMetresOffIsPlacedWhereItsKeypointsSeeIt) {
   Eigen::Vector3d x;
   Camera().Project(seen, &x);
   EXPECT_LT((x - s.table.ObservationsOf(s.car_landmarks[7])[10].x).head<2>().norm(), 2.0);
-  EXPECT_NEAR(tracks.at(1).states[20].velocity.z(), 10, 0.5);
+  // It drives at 10 m/s: the mean of its velocities over the middle of its track (one
+  // frame's, from the adjusted positions on either side, carries their noise).
+  double speed = 0;
+  for (int f = 5; f < 35; ++f) speed += tracks.at(1).states[f].velocity.z() / 30;
+  EXPECT_NEAR(speed, 10, 0.2);
 }
 
 TEST(ObjectTracks, TheMapKeepsTheMovingLandmarksKeypointsOnceEachAndDropsThoseOfAReleasedCluster) {
