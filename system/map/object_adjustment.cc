@@ -198,6 +198,9 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     }
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::SPARSE_SCHUR;
+    // Eigen's sparse Cholesky, not CHOLMOD: CHOLMOD runs OpenMP threads of its own, outside
+    // the system's threads and its core reservation (and outside ThreadSanitizer's view).
+    options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
     options.max_num_iterations = 50;
     options.num_threads = 1;
     options.logging_type = ceres::SILENT;
