@@ -78,6 +78,7 @@ void MapStateOptions::Load(OptionsReader& r) {
   r.Read("report_min_windows", &report_min_windows);
   r.Read("retire_after_frames", &retire_after_frames);
   r.Read("reappearance_max_gap_s", &reappearance_max_gap_s);
+  r.Read("keep_lost_members", &keep_lost_members);
   r.Read("reappearance_max_acceleration_mps2", &reappearance_max_acceleration_mps2);
   r.ReadSection("track", &track);
 }
@@ -292,8 +293,23 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window, const std::v
   const Pose map_from_window = ChainCamera(window, &info);
 
   const std::map<int, std::vector<int>> members = GroupByLabel(window, ids);
-  if (auto it = members.find(0); it != members.end())
-    for (int l : it->second) Assign(l, 0, map_from_window * WindowPoint(window, l));
+  if (auto it = members.find(0); it != members.end()) {
+    // A window that finds none of a moving cluster's landmarks moving has lost the body (too
+    // far for its depth noise to show the motion), which says nothing against the motion the
+    // map saw: its landmarks keep their cluster. Clusters that hold still are folded into
+    // the static world by their trajectories (MergeAgreeingClusters).
+    std::set<int> seen_moving;
+    for (const auto& [label, ids] : members)
+      if (label != 0)
+        for (int l : ids)
+          if (const LandmarkState* s = Find(l); s && s->cluster >= 1) seen_moving.insert(s->cluster);
+    for (int l : it->second) {
+      const LandmarkState* s = Find(l);
+      if (options_.keep_lost_members && s && s->cluster >= 1 && !seen_moving.count(s->cluster))
+        continue;
+      Assign(l, 0, map_from_window * WindowPoint(window, l));
+    }
+  }
 
   const std::vector<Candidate> candidates = AssociationCandidates(window, members);
   Association a;

@@ -109,6 +109,9 @@ struct MapStateOptions {
   /// ... with at most this acceleration over the gap (m/s²; 3: a road vehicle's, braking or
   /// speeding up hard in town).
   double reappearance_max_acceleration_mps2 = 3.0;
+  /// A moving cluster's landmarks keep their cluster when a window labels them static
+  /// while it finds none of that cluster's landmarks moving (it lost the body).
+  bool keep_lost_members = true;
   /// The reported objects' body frames and smoothed tracks at the end of the run
   /// (system/map/object_tracks.h; YAML section `map.track`).
   ObjectTrackOptions track;

@@ -301,6 +301,47 @@ TEST(MapState, AClusterThatHoldsStillFoldsIntoTheStaticWorld) {
   }
 }
 
+// A window that sees object 2's landmarks (ids 45..59) but cannot tell that they move (the
+// car is far and drives along the line of sight): it labels them static, as fixed points where
+// the camera saw them at the window's first frame, and reports no cluster for object 2.
+// `moving_too`: it still finds object 2 moving in all but those of `lost`.
+MotionEstimate WindowLosingObject2(const World& w, FrameRange range, const std::vector<int>& lost,
+                                   bool moving_too) {
+  MotionEstimate e = PerfectWindow(w, range, {{1, 1}, {2, 2}});
+  if (!moving_too) std::erase_if(e.clusters, [](const ClusterMotion& m) { return m.cluster == 2; });
+  const Pose window_from_world = w.world_from_cam[range.begin].inverse();
+  for (int l : lost) {
+    e.landmark_cluster[l] = 0;
+    e.landmark_in_cluster[l] = window_from_world * w.world_from_object[1][range.begin] * w.p_in_object[l];
+  }
+  return e;
+}
+
+TEST(MapState, AWindowThatLosesAMovingBodyLeavesItsLandmarksWithTheBody) {
+  const World w = MakeWorld(40);
+  std::vector<int> object2;
+  for (int l = 45; l < 60; ++l) object2.push_back(l);
+  for (const bool keep : {true, false}) {
+    MapStateOptions options;
+    options.keep_lost_members = keep;
+    MapState map(options);
+    map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+    map.Integrate(WindowLosingObject2(w, {5, 35}, object2, false));
+    for (int l : object2) EXPECT_EQ(map.ClusterOf(l), keep ? 2 : 0) << l << (keep ? "" : " (off)");
+    if (keep) ExpectFollows(w, map, 2, 2);
+  }
+}
+
+TEST(MapState, LandmarksAWindowSeesStayBehindTheirMovingBodyJoinTheStaticWorld) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  // The window finds object 2 moving in ten of its landmarks; the other five it labels static.
+  map.Integrate(WindowLosingObject2(w, {5, 35}, {45, 46, 47, 48, 49}, true));
+  for (int l = 45; l < 50; ++l) EXPECT_EQ(map.ClusterOf(l), 0) << l;
+  for (int l = 50; l < 60; ++l) EXPECT_EQ(map.ClusterOf(l), 2) << l;
+}
+
 // Object 1 as a body that is not rigid: its odd landmarks (the legs of a cyclist) swing
 // `swing_m` up and down against the rest. A window that clusters the two parts apart reports
 // them as clusters 1 and 3.
