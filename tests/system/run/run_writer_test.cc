@@ -45,6 +45,9 @@ MotionEstimate Window(FrameRange range, bool moving) {
 
 TEST(RunWriter, LeavesOutAClusterWhoseLandmarksAllWentElsewhere) {
   PipelineResult result;
+  MapStateOptions map_options;
+  map_options.keep_lost_members = false;  // a window's static labels empty the cluster
+  result.map = MapState(map_options);
   result.map.Integrate(Window({0, 10}, true));
   ASSERT_EQ(result.map.clusters().size(), 1u);
   ASSERT_EQ(result.map.clusters().begin()->second.num_landmarks, 4);
