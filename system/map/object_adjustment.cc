@@ -2,8 +2,10 @@
 
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
+#include <ceres/sphere_manifold.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -112,6 +114,24 @@ struct WindowTurn {
   Eigen::Matrix3d whiten;
 };
 
+// Three consecutive poses and the body's direction of travel u (unit, body frame): a vehicle
+// moves along its heading, so the middle pose's velocity (world, central difference) seen in
+// the body frame has no component across u, up to a slip of `sigma` (m/s). Either sign of u:
+// a car may reverse.
+struct AlongHeading {
+  AlongHeading(double dt, double sigma) : dt(dt), sigma(sigma) {}
+  template <typename T>
+  bool operator()(const T* t0, const T* q1, const T* t2, const T* u, T* residual) const {
+    T v[3], q_inv[4] = {q1[0], -q1[1], -q1[2], -q1[3]}, vb[3];
+    for (int i = 0; i < 3; ++i) v[i] = (t2[i] - t0[i]) / T(dt);
+    ceres::QuaternionRotatePoint(q_inv, v, vb);
+    const T along = vb[0] * u[0] + vb[1] * u[1] + vb[2] * u[2];
+    for (int i = 0; i < 3; ++i) residual[i] = (vb[i] - along * u[i]) / T(sigma);
+    return true;
+  }
+  double dt, sigma;
+};
+
 struct FramePose {
   double q[4];
   double t[3];
@@ -156,7 +176,12 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
   for (const ObjectKeypoint& k : keypoints)
     if (poses.count(k.frame) && k.landmark >= 0 && k.landmark < static_cast<int>(places.size()))
       used.push_back(&k);
-  const auto solve = [&](double keypoint_scale, double* initial, double* final_cost) {
+  // The direction of travel in the body frame (either sign), set before the solve that uses it.
+  const double heading_sigma = motion.lateral_velocity_mps;
+  Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
+  ceres::SphereManifold<3> sphere;
+  const auto solve = [&](double keypoint_scale, bool along_heading, double* initial,
+                         double* final_cost) {
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
@@ -184,6 +209,17 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AngularRate, 3, 4, 4>(
                                    new AngularRate(dt, motion.angular_rate_sigma_radps)),
                                nullptr, std::prev(it)->second.q, it->second.q);
+    }
+    if (along_heading) {
+      for (auto it = std::next(poses.begin()); std::next(it) != poses.end(); ++it) {
+        const double dt = time_of(std::next(it)->first) - time_of(std::prev(it)->first);
+        if (!(dt > 0)) continue;
+        problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AlongHeading, 3, 3, 4, 3, 3>(
+                                     new AlongHeading(dt, heading_sigma)),
+                                 nullptr, std::prev(it)->second.t, it->second.q,
+                                 std::next(it)->second.t, heading.data());
+      }
+      problem.SetManifold(heading.data(), &sphere);
     }
     for (auto it = std::next(poses.begin()); std::next(it) != poses.end(); ++it) {
       auto& a = std::prev(it)->second;
@@ -214,7 +250,7 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
   const std::map<int, FramePose> start_poses = poses;
   const std::vector<Eigen::Vector3d> start_places = places;
   double initial = 0, final_cost = 0;
-  if (!solve(1.0, &initial, &final_cost)) return out;
+  if (!solve(1.0, false, &initial, &final_cost)) return out;
   // The keypoints' spread about the fit says how far to trust their covariances.
   std::vector<double> squared;
   squared.reserve(used.size());
@@ -231,7 +267,44 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
   if (out.keypoint_scale > 1.5) {
     poses = start_poses;
     places = start_places;
-    if (!solve(out.keypoint_scale, &initial, &final_cost)) return out;
+    if (!solve(out.keypoint_scale, false, &initial, &final_cost)) return out;
+  }
+  if (heading_sigma > 0) {
+    // Two starts, the lower cost kept: the given track with the dominant direction of its
+    // velocities in the body frame, and the free fit with its own. A far body's spin in the
+    // given track blurs its direction; the free fit may have followed the windows' turns into
+    // the spin.
+    const auto direction_of_travel = [](const std::map<int, FramePose>& track) {
+      Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+      for (auto it = std::next(track.begin()); std::next(it) != track.end(); ++it) {
+        const FramePose& a = std::prev(it)->second;
+        const FramePose& b = it->second;
+        const FramePose& c = std::next(it)->second;
+        const Eigen::Vector3d v(c.t[0] - a.t[0], c.t[1] - a.t[1], c.t[2] - a.t[2]);
+        const Eigen::Vector3d in_body =
+            Eigen::Quaterniond(b.q[0], b.q[1], b.q[2], b.q[3]).normalized().conjugate() * v;
+        scatter += in_body * in_body.transpose();
+      }
+      return Eigen::Vector3d(
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2).normalized());
+    };
+    const std::map<int, FramePose> free_poses = poses;
+    const std::vector<Eigen::Vector3d> free_places = places;
+    heading = direction_of_travel(free_poses);
+    double free_start_cost = 0, free_start_final = 0;
+    const bool from_free = solve(out.keypoint_scale, true, &free_start_cost, &free_start_final);
+    const std::map<int, FramePose> from_free_poses = poses;
+    const std::vector<Eigen::Vector3d> from_free_places = places;
+    poses = start_poses;
+    places = start_places;
+    heading = direction_of_travel(start_poses);
+    double given_start_cost = 0, given_start_final = 0;
+    const bool from_given = solve(out.keypoint_scale, true, &given_start_cost, &given_start_final);
+    if (!from_free && !from_given) return out;
+    if (!from_given || (from_free && free_start_final < given_start_final)) {
+      poses = from_free_poses;
+      places = from_free_places;
+    }
   }
   // A fit that explains fewer than half of the keypoints (within the χ²₃ 99.9 % gate, at
   // their scaled covariances) started too far from the body to find it: keep the track.

@@ -3,9 +3,12 @@
 // and its landmarks' places in its body frame, fitted together to those keypoints (stereo
 // reprojection, each keypoint with its covariance, Cauchy-robust) under the motion model of the
 // track smoother (a white acceleration and a white angular acceleration between consecutive
-// poses), as the field's object factor graphs do. One frame's keypoints place a far body only
-// to a metre and turn it only to degrees, and the windows' shape of it can be 10 % off; all
-// frames together, with what a vehicle can do between them, pin both.
+// poses, and a velocity along one direction of travel in the body frame), as the field's object
+// factor graphs do. One frame's keypoints place a far body only to a metre and turn it only to
+// degrees, and the windows' shape of it can be 10 % off; all frames together, with what a
+// vehicle can do between them, pin both. A vehicle moves where it points: a far car whose
+// keypoints hardly fix its heading was fitted turning 3–5° per frame while its path ran
+// straight, and its path fixes the direction it drives in.
 #include <functional>
 #include <map>
 #include <optional>

@@ -180,6 +180,12 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
   for (const TrackState& s : track->states) poses[s.frame] = s.world_from_body;
   const ObjectAdjustment adjusted =
       AdjustObject(keypoints, turns, &places, &poses, map->world_from_cam(), camera, time_of, motion);
+  GetLogger("system")->debug(
+      "object adjustment: {} of {} keypoints explained over {} frames, covariances x{:.2f}: {}",
+      adjusted.inliers, adjusted.keypoints, adjusted.frames, adjusted.keypoint_scale,
+      adjusted.adjusted ? "kept"
+                        : (adjusted.implausible ? "refused, it moves the body as no vehicle can"
+                                                : "refused"));
   if (!adjusted.adjusted) return 0;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : places) centroid += p / static_cast<double>(places.size());

@@ -29,6 +29,14 @@ struct TrackSmootherOptions {
   /// lasts a few seconds). Its yaw acceleration is then about σ·√(2/τ) = 0.5 rad/s² (1 σ).
   /// Without measurements that say otherwise, a body's heading stays.
   double angular_rate_time_s = 2.0;
+  /// Vehicles move where they point: the object adjustment holds each frame's velocity, seen
+  /// in the body frame, to one direction of travel (either sign: a car may reverse), up to
+  /// this lateral velocity (1 σ, m/s; 0: off). 2: a road vehicle's body-frame origin (its
+  /// points' centroid, metres ahead of the rear axle) slides sideways at ω × that lever in a
+  /// turn, 1 m/s at 0.5 rad/s and 2 m, plus the tyres' slip. A pedestrian's or a pushed box's
+  /// sidestep at walking pace stays within it. A far car's keypoints hardly fix its heading;
+  /// its path fixes its direction of travel.
+  double lateral_velocity_mps = 2.0;
   /// A measurement whose squared Mahalanobis distance from the smoothed track exceeds this
   /// (3 dof: 16.27 is the 99.9 % quantile) is rejected in the final pass.
   double gate_chi2 = 16.27;
