@@ -347,9 +347,13 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     if (it->first != before->first + 1) continue;  // a gap: the track starts again
     const double dt = time_of(it->first) - time_of(before->first);
     if (!(dt > 0)) continue;
-    if (RotationAngle(it->second.linear() * before->second.linear().transpose()) >
-        bound * motion.angular_rate_sigma_radps * dt) {
+    const double turn = RotationAngle(it->second.linear() * before->second.linear().transpose());
+    if (turn > bound * motion.angular_rate_sigma_radps * dt) {
       out.implausible = true;
+      out.implausible_frame = it->first;
+      out.implausible_turn = true;
+      out.implausible_value = turn;
+      out.implausible_bound = bound * motion.angular_rate_sigma_radps * dt;
       return out;
     }
     const auto after = std::next(it);
@@ -360,6 +364,9 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
                                (it->second.translation() - before->second.translation()) / dt;
     if (dv.norm() > bound * motion.acceleration_mps2 * std::sqrt((dt + dt2) / 2)) {
       out.implausible = true;
+      out.implausible_frame = it->first;
+      out.implausible_value = dv.norm();
+      out.implausible_bound = bound * motion.acceleration_mps2 * std::sqrt((dt + dt2) / 2);
       return out;
     }
   }

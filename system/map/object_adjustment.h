@@ -49,6 +49,10 @@ struct ObjectAdjustment {
   /// The fit turned the body or changed its velocity between two frames by more than the
   /// motion model allows (χ²₃ 99.9 %), and was not kept.
   bool implausible = false;
+  /// Where: the frame, the turn (rad) or velocity change (m/s) found there, and its bound.
+  int implausible_frame = -1;
+  bool implausible_turn = false;
+  double implausible_value = 0, implausible_bound = 0;
   /// The factor the keypoints' covariances were scaled by: their median squared residual
   /// over its χ²₃ median, when above 1 (a real frontend's covariances run small).
   double keypoint_scale = 1;
