@@ -299,13 +299,13 @@ WindowIntegration MapState::Integrate(const MotionEstimate& window, const std::v
     // map saw: its landmarks keep their cluster. Clusters that hold still are folded into
     // the static world by their trajectories (MergeAgreeingClusters).
     std::set<int> seen_moving;
-    for (const auto& [label, ids] : members)
-      if (label != 0)
-        for (int l : ids)
-          if (const LandmarkState* s = Find(l); s && s->cluster >= 1) seen_moving.insert(s->cluster);
+    if (options_.keep_lost_members)
+      for (const auto& [label, ids] : members)
+        if (label != 0)
+          for (int l : ids)
+            if (const int c = ClusterOf(l); c >= 1) seen_moving.insert(c);
     for (int l : it->second) {
-      const LandmarkState* s = Find(l);
-      if (options_.keep_lost_members && s && s->cluster >= 1 && !seen_moving.count(s->cluster))
+      if (const int c = ClusterOf(l); options_.keep_lost_members && c >= 1 && !seen_moving.count(c))
         continue;
       Assign(l, 0, map_from_window * WindowPoint(window, l));
     }

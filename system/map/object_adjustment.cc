@@ -291,18 +291,19 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
       return Eigen::Vector3d(
           Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2).normalized());
     };
-    const std::map<int, FramePose> free_poses = poses;
-    const std::vector<Eigen::Vector3d> free_places = places;
-    heading = direction_of_travel(free_poses);
-    double free_start_cost = 0, free_start_final = 0;
-    const bool from_free = solve(out.keypoint_scale, true, &free_start_cost, &free_start_final);
+    // From the current poses and places, with the direction of travel they show.
+    const auto solve_along_heading = [&](double* final) {
+      heading = direction_of_travel(poses);
+      double start_cost = 0;
+      return solve(out.keypoint_scale, true, &start_cost, final);
+    };
+    double free_start_final = 0, given_start_final = 0;
+    const bool from_free = solve_along_heading(&free_start_final);
     const std::map<int, FramePose> from_free_poses = poses;
     const std::vector<Eigen::Vector3d> from_free_places = places;
     poses = start_poses;
     places = start_places;
-    heading = direction_of_travel(start_poses);
-    double given_start_cost = 0, given_start_final = 0;
-    const bool from_given = solve(out.keypoint_scale, true, &given_start_cost, &given_start_final);
+    const bool from_given = solve_along_heading(&given_start_final);
     if (!from_free && !from_given) return out;
     if (!from_given || (from_free && free_start_final < given_start_final)) {
       poses = from_free_poses;
@@ -351,12 +352,13 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     const double dt = time_of(it->first) - time_of(before->first);
     if (!(dt > 0)) continue;
     const double turn = RotationAngle(it->second.linear() * before->second.linear().transpose());
-    if (turn > bound * motion.angular_rate_sigma_radps * dt) {
+    const double max_turn = bound * motion.angular_rate_sigma_radps * dt;
+    if (turn > max_turn) {
       out.implausible = true;
       out.implausible_frame = it->first;
       out.implausible_turn = true;
       out.implausible_value = turn;
-      out.implausible_bound = bound * motion.angular_rate_sigma_radps * dt;
+      out.implausible_bound = max_turn;
       return out;
     }
     const auto after = std::next(it);
@@ -365,11 +367,12 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     if (!(dt2 > 0)) continue;
     const Eigen::Vector3d dv = (after->second.translation() - it->second.translation()) / dt2 -
                                (it->second.translation() - before->second.translation()) / dt;
-    if (dv.norm() > bound * motion.acceleration_mps2 * std::sqrt((dt + dt2) / 2)) {
+    const double max_change = bound * motion.acceleration_mps2 * std::sqrt((dt + dt2) / 2);
+    if (dv.norm() > max_change) {
       out.implausible = true;
       out.implausible_frame = it->first;
       out.implausible_value = dv.norm();
-      out.implausible_bound = bound * motion.acceleration_mps2 * std::sqrt((dt + dt2) / 2);
+      out.implausible_bound = max_change;
       return out;
     }
   }

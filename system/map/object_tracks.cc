@@ -180,17 +180,18 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
   for (const TrackState& s : track->states) poses[s.frame] = s.world_from_body;
   const ObjectAdjustment adjusted =
       AdjustObject(keypoints, turns, &places, &poses, map->world_from_cam(), camera, time_of, motion);
-  GetLogger("system")->debug(
-      "object adjustment: {} of {} keypoints explained, covariances x{:.2f}: {}", adjusted.inliers,
-      keypoints.size(), adjusted.keypoint_scale,
-      adjusted.adjusted ? fmt::format("kept, {} frames adjusted", adjusted.frames)
-      : adjusted.implausible
-          ? fmt::format("refused, at frame {} it {} {:.2f} {} (the motion model's bound: {:.2f})",
-                        adjusted.implausible_frame,
-                        adjusted.implausible_turn ? "turns the body by" : "changes its velocity by",
-                        adjusted.implausible_value, adjusted.implausible_turn ? "rad" : "m/s",
-                        adjusted.implausible_bound)
-          : std::string("refused"));
+  if (auto log = GetLogger("system"); log->should_log(spdlog::level::debug))
+    log->debug(
+        "object adjustment: {} of {} keypoints explained, covariances x{:.2f}: {}",
+        adjusted.inliers, keypoints.size(), adjusted.keypoint_scale,
+        adjusted.adjusted ? fmt::format("kept, {} frames adjusted", adjusted.frames)
+        : adjusted.implausible
+            ? fmt::format("refused, at frame {} it {} {:.2f} {} (the motion model's bound: {:.2f})",
+                          adjusted.implausible_frame,
+                          adjusted.implausible_turn ? "turns the body by" : "changes its velocity by",
+                          adjusted.implausible_value, adjusted.implausible_turn ? "rad" : "m/s",
+                          adjusted.implausible_bound)
+            : std::string("refused"));
   if (!adjusted.adjusted) return 0;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& p : places) centroid += p / static_cast<double>(places.size());
