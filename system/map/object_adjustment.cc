@@ -233,9 +233,12 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
       problem.AddResidualBlock(cost, nullptr, a.q, a.t, b.q, b.t, c.q, c.t);
     }
     ceres::Solver::Options options;
-    options.linear_solver_type = ceres::SPARSE_SCHUR;
-    // Eigen's sparse Cholesky, not CHOLMOD: CHOLMOD runs OpenMP threads of its own, outside
-    // the system's threads and its core reservation (and outside ThreadSanitizer's view).
+    // The normal equations, not the Schur complement: the steps are the same, but Ceres 2.1's
+    // Schur path with Eigen rebuilds and sorts the reduced matrix at every iteration, and that
+    // made it several times slower on these problems (docs/benchmarks.md). Eigen's sparse
+    // Cholesky, not CHOLMOD: CHOLMOD runs OpenMP threads of its own, outside the system's
+    // threads and its core reservation (and outside ThreadSanitizer's view).
+    options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
     options.max_num_iterations = 50;
     // Ceres' default 1e-6 ran most fits to the iteration cap; 1e-5 ends them at a third of the
