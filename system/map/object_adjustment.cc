@@ -143,39 +143,26 @@ Eigen::Matrix3d Whitening(const Eigen::Matrix3d& cov) {
   return llt.matrixL().solve(Eigen::Matrix3d::Identity());
 }
 
-}  // namespace
 
-ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
-                              const std::vector<ObjectTurn>& turns,
-                              std::vector<Eigen::Vector3d>* in_body,
-                              std::map<int, Pose>* world_from_body,
-                              const std::vector<std::optional<Pose>>& world_from_cam,
-                              const StereoCamera& camera, const std::function<double(int)>& time_of,
-                              const TrackSmootherOptions& motion) {
-  ObjectAdjustment out;
-  std::map<int, int> count;
-  for (const ObjectKeypoint& k : keypoints)
-    if (world_from_body->count(k.frame) && k.frame < static_cast<int>(world_from_cam.size()) &&
-        world_from_cam[k.frame])
-      ++count[k.frame];
-  std::map<int, FramePose> poses;
-  for (const auto& [f, n] : count) {
-    if (n < 3) continue;
-    const Pose& p = world_from_body->at(f);
-    const Eigen::Quaterniond q(p.linear());
-    poses[f] = FramePose{{q.w(), q.x(), q.y(), q.z()}, {p.translation().x(), p.translation().y(), p.translation().z()}};
-  }
-  if (poses.size() < 3) return out;
-  std::vector<Eigen::Vector3d> places = *in_body;
+// One stretch's fit: what FitStretch did.
+struct StretchFit {
+  bool ok = false;
+  double keypoint_scale = 1;
+};
+
+// Fits the poses of one stretch (frames tied together by shared landmarks) and its landmarks'
+// places to its keypoints under the motion model; its first pose is held.
+StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
+                      const std::vector<ObjectTurn>& turns, std::vector<Eigen::Vector3d>& places,
+                      std::map<int, FramePose>& poses,
+                      const std::vector<std::optional<Pose>>& world_from_cam,
+                      const StereoCamera& camera, const std::function<double(int)>& time_of,
+                      const TrackSmootherOptions& motion) {
+  StretchFit fit;
   // The angular acceleration the smoother's mean-reverting rate allows: its driving noise.
   const double angular_acceleration =
       std::sqrt(2 * motion.angular_rate_sigma_radps * motion.angular_rate_sigma_radps /
                 motion.angular_rate_time_s);
-
-  std::vector<const ObjectKeypoint*> used;
-  for (const ObjectKeypoint& k : keypoints)
-    if (poses.count(k.frame) && k.landmark >= 0 && k.landmark < static_cast<int>(places.size()))
-      used.push_back(&k);
   // The direction of travel in the body frame (either sign), set before the solve that uses it.
   const double heading_sigma = motion.lateral_velocity_mps;
   Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
@@ -256,7 +243,7 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
   const std::map<int, FramePose> start_poses = poses;
   const std::vector<Eigen::Vector3d> start_places = places;
   double initial = 0, final_cost = 0;
-  if (!solve(1.0, false, &initial, &final_cost)) return out;
+  if (!solve(1.0, false, &initial, &final_cost)) return fit;
   // The keypoints' spread about the fit says how far to trust their covariances.
   std::vector<double> squared;
   squared.reserve(used.size());
@@ -269,11 +256,11 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
   }
   std::vector<double> sorted = squared;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  out.keypoint_scale = std::max(1.0, sorted[sorted.size() / 2] / kChi2Median3);
-  if (out.keypoint_scale > 1.5) {
+  fit.keypoint_scale = std::max(1.0, sorted[sorted.size() / 2] / kChi2Median3);
+  if (fit.keypoint_scale > 1.5) {
     poses = start_poses;
     places = start_places;
-    if (!solve(out.keypoint_scale, false, &initial, &final_cost)) return out;
+    if (!solve(fit.keypoint_scale, false, &initial, &final_cost)) return fit;
   }
   if (heading_sigma > 0) {
     // Two starts, the lower cost kept: the given track with the dominant direction of its
@@ -298,7 +285,7 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     const auto solve_along_heading = [&](double* final) {
       heading = direction_of_travel(poses);
       double start_cost = 0;
-      return solve(out.keypoint_scale, true, &start_cost, final);
+      return solve(fit.keypoint_scale, true, &start_cost, final);
     };
     double free_start_final = 0, given_start_final = 0;
     const bool from_free = solve_along_heading(&free_start_final);
@@ -307,43 +294,158 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     poses = start_poses;
     places = start_places;
     const bool from_given = solve_along_heading(&given_start_final);
-    if (!from_free && !from_given) return out;
+    if (!from_free && !from_given) return fit;
     if (!from_given || (from_free && free_start_final < given_start_final)) {
       poses = from_free_poses;
       places = from_free_places;
     }
   }
-  // A fit that explains fewer than half of the keypoints (within the χ²₃ 99.9 % gate, at
-  // their scaled covariances) started too far from the body to find it: keep the track.
-  int inliers = 0;
+  fit.ok = true;
+  return fit;
+}
+
+// The frames in stretches, cut between two consecutive frames where fewer than 3 landmarks
+// were seen both before and after: fewer points do not fix a rigid body's pose, so nothing in
+// the keypoints ties the poses on one side to those on the other.
+std::vector<std::vector<int>> Stretches(const std::vector<const ObjectKeypoint*>& used) {
+  std::map<int, std::pair<int, int>> span;  // landmark → first and last frame seen
+  std::map<int, int> opened;                // frame → landmarks first seen minus last seen there
   for (const ObjectKeypoint* k : used) {
-    double r[3];
-    const FramePose& pose = poses.at(k->frame);
-    Reprojection(camera, world_from_cam[k->frame]->inverse(), k->x,
-                 Whitening(out.keypoint_scale * k->cov))(pose.q, pose.t, places[k->landmark].data(), r);
-    inliers += r[0] * r[0] + r[1] * r[1] + r[2] * r[2] < kInlierGate;
+    const auto [it, fresh] = span.try_emplace(k->landmark, k->frame, k->frame);
+    it->second.first = std::min(it->second.first, k->frame);
+    it->second.second = std::max(it->second.second, k->frame);
+    opened.try_emplace(k->frame, 0);
   }
-  out.inliers = inliers;
-  if (2 * inliers < static_cast<int>(used.size())) return out;
-  // Every pose: the adjusted ones, and the others moved with the nearest adjusted frame, so
-  // that the track's own motion between them is kept.
+  for (const auto& [l, s] : span) {
+    ++opened[s.first];
+    --opened[s.second];
+  }
+  std::vector<std::vector<int>> out(1);
+  int spanning = 0;  // landmarks seen at or before this frame and after it
+  for (const auto& [f, change] : opened) {
+    out.back().push_back(f);
+    spanning += change;
+    if (spanning < 3) out.emplace_back();
+  }
+  if (out.back().empty()) out.pop_back();
+  return out;
+}
+
+}  // namespace
+
+ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
+                              const std::vector<ObjectTurn>& turns,
+                              std::vector<Eigen::Vector3d>* in_body,
+                              std::map<int, Pose>* world_from_body,
+                              const std::vector<std::optional<Pose>>& world_from_cam,
+                              const StereoCamera& camera, const std::function<double(int)>& time_of,
+                              const TrackSmootherOptions& motion) {
+  ObjectAdjustment out;
+  std::map<int, int> count;
+  for (const ObjectKeypoint& k : keypoints)
+    if (world_from_body->count(k.frame) && k.frame < static_cast<int>(world_from_cam.size()) &&
+        world_from_cam[k.frame])
+      ++count[k.frame];
+  std::map<int, FramePose> poses;
+  for (const auto& [f, n] : count) {
+    if (n < 3) continue;
+    const Pose& p = world_from_body->at(f);
+    const Eigen::Quaterniond q(p.linear());
+    poses[f] = FramePose{{q.w(), q.x(), q.y(), q.z()}, {p.translation().x(), p.translation().y(), p.translation().z()}};
+  }
+  if (poses.size() < 3) return out;
+  std::vector<Eigen::Vector3d> places = *in_body;
+  std::vector<const ObjectKeypoint*> used;
+  for (const ObjectKeypoint& k : keypoints)
+    if (poses.count(k.frame) && k.landmark >= 0 && k.landmark < static_cast<int>(places.size()))
+      used.push_back(&k);
+
+  // Each stretch on its own, its first pose held where the track has it: fitted together,
+  // stretches that share no landmark are tied only by the motion model, metres of slack over
+  // an occlusion, and a later one slid off with its landmarks where the windows, which
+  // carried the body across, had it right.
   std::map<int, Pose> adjusted;
-  for (const auto& [f, pose] : poses) {
-    Pose p = Pose::Identity();
-    p.linear() = Eigen::Quaterniond(pose.q[0], pose.q[1], pose.q[2], pose.q[3]).normalized().toRotationMatrix();
-    p.translation() = Eigen::Vector3d(pose.t[0], pose.t[1], pose.t[2]);
-    adjusted[f] = p;
+  std::vector<int> fitting(places.size(), 0), seen(places.size(), 0);
+  size_t largest = 0;
+  for (const std::vector<int>& frames : Stretches(used)) {
+    std::map<int, FramePose> stretch;
+    for (int f : frames) stretch[f] = poses.at(f);
+    std::vector<const ObjectKeypoint*> own;
+    for (const ObjectKeypoint* k : used)
+      if (stretch.count(k->frame)) own.push_back(k);
+    // Too short to fit: its frames go with the stretches about them, like frames without
+    // keypoints.
+    if (stretch.size() < 3) continue;
+    const std::vector<Eigen::Vector3d> given_places = places;
+    const std::map<int, FramePose> given_poses = stretch;
+    const StretchFit fit = FitStretch(own, turns, places, stretch, world_from_cam, camera, time_of, motion);
+    // A fit that explains fewer than half of the keypoints (within the χ²₃ 99.9 % gate, at
+    // their scaled covariances) started too far from the body to find it: the stretch keeps
+    // its track.
+    int inliers = 0;
+    std::vector<std::pair<int, bool>> verdicts;
+    for (const ObjectKeypoint* k : own) {
+      double r[3];
+      const FramePose& pose = stretch.at(k->frame);
+      Reprojection(camera, world_from_cam[k->frame]->inverse(), k->x,
+                   Whitening(fit.keypoint_scale * k->cov))(pose.q, pose.t, places[k->landmark].data(), r);
+      const bool inlier = r[0] * r[0] + r[1] * r[1] + r[2] * r[2] < kInlierGate;
+      inliers += inlier;
+      verdicts.emplace_back(k->landmark, inlier);
+    }
+    if (!fit.ok || 2 * inliers < static_cast<int>(own.size())) {
+      places = given_places;
+      stretch = given_poses;
+    } else {
+      out.inliers += inliers;
+      out.keypoints += static_cast<int>(own.size());
+      out.frames += static_cast<int>(stretch.size());
+      ++out.stretches;
+      for (const auto& [l, inlier] : verdicts) {
+        fitting[l] += inlier;
+        ++seen[l];
+      }
+      if (stretch.size() > largest) {
+        largest = stretch.size();
+        out.keypoint_scale = fit.keypoint_scale;
+      }
+    }
+    for (const auto& [f, pose] : stretch) {
+      Pose p = Pose::Identity();
+      p.linear() = Eigen::Quaterniond(pose.q[0], pose.q[1], pose.q[2], pose.q[3]).normalized().toRotationMatrix();
+      p.translation() = Eigen::Vector3d(pose.t[0], pose.t[1], pose.t[2]);
+      adjusted[f] = p;
+    }
   }
+  if (out.frames == 0) return ObjectAdjustment{};
+  // Every pose: the fitted ones, and the others moved with the adjusted frames about them, so
+  // that the track's own motion between them is kept.
   std::map<int, Pose> track;
   for (const auto& [f, given] : *world_from_body) {
     if (const auto a = adjusted.find(f); a != adjusted.end()) {
       track[f] = a->second;
       continue;
     }
-    auto next = adjusted.lower_bound(f);
-    if (next == adjusted.end() || (next != adjusted.begin() && f - std::prev(next)->first < next->first - f))
-      next = std::prev(next);
-    track[f] = Pose(next->second * world_from_body->at(next->first).inverse() * given);
+    const auto next = adjusted.lower_bound(f);
+    const auto correction = [&](std::map<int, Pose>::const_iterator a) {
+      return Pose(a->second * world_from_body->at(a->first).inverse());
+    };
+    if (next == adjusted.end() || next == adjusted.begin()) {
+      track[f] = Pose(correction(next == adjusted.end() ? std::prev(next) : next) * given);
+      continue;
+    }
+    // Between two adjusted frames the correction goes over from one's to the other's, taken
+    // in the body frame (given⁻¹ adjusted), where it is small: moved with the nearer one alone,
+    // a gap's frames met in the middle with a step; blended in the world, a small turn's lever
+    // arm to the world origin put one there.
+    const auto before = std::prev(next);
+    const double w = static_cast<double>(f - before->first) / (next->first - before->first);
+    const Pose a = Pose(world_from_body->at(before->first).inverse() * before->second);
+    const Pose b = Pose(world_from_body->at(next->first).inverse() * next->second);
+    Pose blend = Pose::Identity();
+    blend.linear() = Eigen::Quaterniond(a.linear()).slerp(w, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+    blend.translation() = (1 - w) * a.translation() + w * b.translation();
+    track[f] = Pose(given * blend);
   }
   // What a body can do between frames, at the χ²₃ 99.9 % bound of the motion model: a fit
   // that turns a body or changes its velocity by more somewhere has followed keypoints of
@@ -379,11 +481,14 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
       return out;
     }
   }
+  out.explained.assign(places.size(), false);
+  for (size_t i = 0; i < places.size(); ++i) {
+    out.explained[i] = 2 * fitting[i] > seen[i];
+    if (!out.explained[i]) places[i] = (*in_body)[i];
+  }
   *world_from_body = std::move(track);
   *in_body = std::move(places);
   out.adjusted = true;
-  out.frames = static_cast<int>(poses.size());
-  out.keypoints = static_cast<int>(used.size());
   return out;
 }
 

@@ -44,6 +44,7 @@ struct ObjectTurn {
 struct ObjectAdjustment {
   bool adjusted = false;  ///< false: poses and places are as given
   int frames = 0;         ///< poses adjusted
+  int stretches = 0;      ///< stretches fitted (frames tied together by their landmarks)
   int keypoints = 0;
   int inliers = 0;  ///< keypoints the fit explains (χ²₃ 99.9 % at the scaled covariances)
   /// The fit turned the body or changed its velocity between two frames by more than the
@@ -56,15 +57,23 @@ struct ObjectAdjustment {
   /// The factor the keypoints' covariances were scaled by: their median squared residual
   /// over its χ²₃ median, when above 1 (a real frontend's covariances run small).
   double keypoint_scale = 1;
+  /// Per place (adjusted fits only): whether most of its keypoints fit (the χ²₃ 99.9 % gate).
+  /// A place that does not is left as given: it is not of this rigid body (a far static
+  /// point taken in by a window), and fitted with the body it ran off towards infinity,
+  /// where a point's image stays put however the body moves.
+  std::vector<bool> explained;
 };
 
 /// Adjusts `world_from_body` at the frames with at least 3 of `keypoints` (and `turns`
-/// between two such frames, Cauchy-robust) (the first such
-/// frame's pose is held: it fixes the body frame) and every place in `in_body`. Frames without
-/// enough keypoints keep their poses. `world_from_cam` is the map's camera (frames without a
+/// between two such frames, Cauchy-robust) and every place in `in_body`, stretch by stretch:
+/// a stretch ends where fewer than 3 landmarks were seen both before and after, and its first
+/// pose is held (the first stretch's fixes the body frame; a later one's is where the track
+/// carried the body across). Frames without enough keypoints take the correction of the
+/// adjusted frames about them. `world_from_cam` is the map's camera (frames without a
 /// pose are left alone); `time_of` gives a frame's time. The result is kept only when the
 /// solver converged to a lower cost, explains at least half of the keypoints and moves the body
-/// as the motion model allows between every two frames.
+/// as the motion model allows between every two frames; places whose keypoints it does not
+/// explain keep their given values.
 ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
                               const std::vector<ObjectTurn>& turns,
                               std::vector<Eigen::Vector3d>* in_body,

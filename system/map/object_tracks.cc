@@ -178,13 +178,19 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
   }
   std::map<int, Pose> poses;
   for (const TrackState& s : track->states) poses[s.frame] = s.world_from_body;
+  std::vector<int> landmark_of;
+  for (const ObjectKeypoint& k : keypoints) landmark_of.push_back(k.landmark);
   const ObjectAdjustment adjusted =
       AdjustObject(keypoints, turns, &places, &poses, map->world_from_cam(), camera, time_of, motion);
   if (auto log = GetLogger("system"); log->should_log(spdlog::level::debug))
     log->debug(
         "object adjustment: {} of {} keypoints explained, covariances x{:.2f}: {}",
         adjusted.inliers, keypoints.size(), adjusted.keypoint_scale,
-        adjusted.adjusted ? fmt::format("kept, {} frames adjusted", adjusted.frames)
+        adjusted.adjusted
+            ? fmt::format("kept, {} frames adjusted in {} stretches, {} of {} landmarks with keypoints fit",
+                          adjusted.frames, adjusted.stretches,
+                          std::count(adjusted.explained.begin(), adjusted.explained.end(), true),
+                          std::set<int>(landmark_of.begin(), landmark_of.end()).size())
         : adjusted.implausible
             ? fmt::format("refused, at frame {} it {} {:.2f} {} (the motion model's bound: {:.2f})",
                           adjusted.implausible_frame,
@@ -193,8 +199,16 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
                           adjusted.implausible_bound)
             : std::string("refused"));
   if (!adjusted.adjusted) return 0;
+  // The origin at the centroid of the places the fit explains: one far static point taken in
+  // by a window would otherwise carry it metres off the body.
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : places) centroid += p / static_cast<double>(places.size());
+  int explained = 0;
+  for (size_t i = 0; i < places.size(); ++i)
+    if (adjusted.explained[i]) {
+      centroid += places[i];
+      ++explained;
+    }
+  if (explained > 0) centroid /= explained;
   for (size_t i = 0; i < members.size(); ++i) map->SetPositionInCluster(members[i], places[i] - centroid);
   Pose to_centroid = Pose::Identity();
   to_centroid.translation() = centroid;
