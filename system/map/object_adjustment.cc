@@ -75,20 +75,24 @@ struct SmoothMotion {
   double dt1, dt2, velocity_sigma = 1, rate_sigma = 1;
 };
 
-// Two consecutive poses: the angular velocity between them against its stationary spread.
-// The smoother's angular velocity reverts to zero; without this, a body spinning at a
-// constant rate would cost nothing, and a far body whose keypoints hardly fix its heading
-// was fitted turning by 18° per frame.
+// Two consecutive poses: the angular velocity between them against its stationary spread,
+// in the body frame: `vertical` (rad/s) about its y axis, the world's vertical at the body's
+// first frame, and `tilt` about its two horizontal axes. The smoother's angular velocity
+// reverts to zero; without this, a body spinning at a constant rate would cost nothing, and a
+// far body whose keypoints hardly fix its heading was fitted turning by 18° per frame.
 struct AngularRate {
-  AngularRate(double dt, double sigma) : dt(dt), sigma(sigma) {}
+  AngularRate(double dt, double vertical, double tilt) : dt(dt), vertical(vertical), tilt(tilt) {}
   template <typename T>
   bool operator()(const T* q0, const T* q1, T* residual) const {
-    T w[3];
+    T w[3], q_inv[4] = {q1[0], -q1[1], -q1[2], -q1[3]}, in_body[3];
     SmoothMotion::Turn(q0, q1, w);
-    for (int i = 0; i < 3; ++i) residual[i] = w[i] / (dt * sigma);
+    ceres::QuaternionRotatePoint(q_inv, w, in_body);
+    residual[0] = in_body[0] / (dt * tilt);
+    residual[1] = in_body[1] / (dt * vertical);
+    residual[2] = in_body[2] / (dt * tilt);
     return true;
   }
-  double dt, sigma;
+  double dt, vertical, tilt;
 };
 
 // The windows' turn of the body between two frames (world, left) against the poses' turn.
@@ -165,6 +169,8 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
                 motion.angular_rate_time_s);
   // The direction of travel in the body frame (either sign), set before the solve that uses it.
   const double heading_sigma = motion.lateral_velocity_mps;
+  const double tilt = motion.tilt_rate_sigma_radps > 0 ? motion.tilt_rate_sigma_radps
+                                                       : motion.angular_rate_sigma_radps;
   Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
   ceres::SphereManifold<3> sphere;
   const auto solve = [&](double keypoint_scale, bool along_heading, double* initial,
@@ -194,7 +200,7 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
       const double dt = time_of(it->first) - time_of(std::prev(it)->first);
       if (!(dt > 0)) continue;
       problem.AddResidualBlock(new ceres::AutoDiffCostFunction<AngularRate, 3, 4, 4>(
-                                   new AngularRate(dt, motion.angular_rate_sigma_radps)),
+                                   new AngularRate(dt, motion.angular_rate_sigma_radps, tilt)),
                                nullptr, std::prev(it)->second.q, it->second.q);
     }
     if (along_heading) {

@@ -17,6 +17,9 @@ void TrackSmootherOptions::Check() const {
               "angular_rate_time_s", "must be positive (s)", angular_rate_time_s);
   CheckOption(std::isfinite(lateral_velocity_mps) && lateral_velocity_mps >= 0,
               "lateral_velocity_mps", "must be >= 0 (m/s; 0: off)", lateral_velocity_mps);
+  CheckOption(std::isfinite(tilt_rate_sigma_radps) && tilt_rate_sigma_radps >= 0,
+              "tilt_rate_sigma_radps", "must be >= 0 (rad/s; 0: as about the vertical)",
+              tilt_rate_sigma_radps);
   CheckOption(std::isfinite(gate_chi2) && gate_chi2 > 0, "gate_chi2",
               "must be positive (squared Mahalanobis distance, 3 dof)", gate_chi2);
   CheckOption(passes >= 0 && passes <= 50, "passes", "must be in [0, 50]", passes);
@@ -29,6 +32,7 @@ void TrackSmootherOptions::Load(OptionsReader& r) {
   r.Read("angular_rate_sigma_radps", &angular_rate_sigma_radps);
   r.Read("angular_rate_time_s", &angular_rate_time_s);
   r.Read("lateral_velocity_mps", &lateral_velocity_mps);
+  r.Read("tilt_rate_sigma_radps", &tilt_rate_sigma_radps);
   r.Read("gate_chi2", &gate_chi2);
   r.Read("passes", &passes);
   r.Read("max_gap_s", &max_gap_s);

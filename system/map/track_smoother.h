@@ -37,6 +37,13 @@ struct TrackSmootherOptions {
   /// sidestep at walking pace stays within it. A far car's keypoints hardly fix its heading;
   /// its path fixes its direction of travel.
   double lateral_velocity_mps = 2.0;
+  /// Vehicles turn about the vertical; they hardly pitch or roll. In the object adjustment the
+  /// angular velocity about the body's two horizontal axes has this standard deviation (rad/s;
+  /// 0: the same as about the vertical, angular_rate_sigma_radps). 0.1: a car's pitch in hard
+  /// braking or its roll in a quick lane change, 2–3° in about half a second. The vertical is
+  /// the world's y axis, the first camera frame's: a vehicle's camera is mounted level. A far
+  /// car's keypoints tip it by fractions of a degree each frame; its suspension does not.
+  double tilt_rate_sigma_radps = 0.1;
   /// A measurement whose squared Mahalanobis distance from the smoothed track exceeds this
   /// (3 dof: 16.27 is the 99.9 % quantile) is rejected in the final pass.
   double gate_chi2 = 16.27;
