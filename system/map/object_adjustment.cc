@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace cslam {
 
@@ -269,10 +270,9 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
     if (!solve(fit.keypoint_scale, false, &initial, &final_cost)) return fit;
   }
   if (heading_sigma > 0) {
-    // Two starts, the lower cost kept: the given track with the dominant direction of its
-    // velocities in the body frame, and the free fit with its own. A far body's spin in the
-    // given track blurs its direction; the free fit may have followed the windows' turns into
-    // the spin.
+    // Several starts, the lowest cost kept, each with the dominant direction of its velocities
+    // in the body frame. A far body's spin in the given track blurs its direction; the free fit
+    // may have followed the windows' turns into the spin.
     const auto direction_of_travel = [](const std::map<int, FramePose>& track) {
       Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
       for (auto it = std::next(track.begin()); std::next(it) != track.end(); ++it) {
@@ -293,18 +293,34 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
       double start_cost = 0;
       return solve(fit.keypoint_scale, true, &start_cost, final);
     };
-    double free_start_final = 0, given_start_final = 0;
-    const bool from_free = solve_along_heading(&free_start_final);
-    const std::map<int, FramePose> from_free_poses = poses;
-    const std::vector<Eigen::Vector3d> from_free_places = places;
-    poses = start_poses;
-    places = start_places;
-    const bool from_given = solve_along_heading(&given_start_final);
-    if (!from_free && !from_given) return fit;
-    if (!from_given || (from_free && free_start_final < given_start_final)) {
-      poses = from_free_poses;
-      places = from_free_places;
+    // Three starts: the free fit, the given track, and the given track without its turns (a
+    // far car crossing the view was given, and fitted from both others, a spin of 100° over
+    // 40 frames while it drove straight: its keypoints hardly fix its heading, and a spin that
+    // came in slowly is a valley of its own).
+    std::vector<std::pair<std::map<int, FramePose>, std::vector<Eigen::Vector3d>>> starts;
+    starts.emplace_back(poses, places);
+    starts.emplace_back(start_poses, start_places);
+    std::map<int, FramePose> straight = start_poses;
+    const FramePose first = straight.begin()->second;
+    for (auto& [f, pose] : straight) std::copy(std::begin(first.q), std::end(first.q), pose.q);
+    starts.emplace_back(straight, start_places);
+    double best = std::numeric_limits<double>::infinity();
+    std::map<int, FramePose> best_poses;
+    std::vector<Eigen::Vector3d> best_places;
+    for (auto& [start, start_at] : starts) {
+      poses = start;
+      places = start_at;
+      double final = 0;
+      const bool ok = solve_along_heading(&final);
+      if (ok && final < best) {
+        best = final;
+        best_poses = poses;
+        best_places = places;
+      }
     }
+    if (!std::isfinite(best)) return fit;
+    poses = std::move(best_poses);
+    places = std::move(best_places);
   }
   fit.ok = true;
   return fit;
