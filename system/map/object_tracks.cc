@@ -163,34 +163,52 @@ void UseKeypointPlaces(const std::vector<std::optional<KeypointPose>>& by_keypoi
 
 
 // The object adjustment (system/map/object_adjustment.h) on the smoothed track: poses and the
-// landmarks' places refitted to the kept keypoints under the motion model. The body frame's
-// origin goes back to the landmarks' centroid; velocities follow the adjusted positions.
-int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& turns, MapState* map,
-                const StereoCamera& camera, const std::function<double(int)>& time_of,
-                const TrackSmootherOptions& motion, ObjectTrack* track) {
-  std::vector<Eigen::Vector3d> places;
+// landmarks' places refitted to the kept keypoints under the motion model. Its inputs are read
+// from the map first and its results written back after, so that the objects' fits, which
+// share nothing, can run side by side.
+struct PendingAdjustment {
+  int id = 0;
+  std::vector<int> members;
+  std::vector<ObjectTurn> turns;
+  std::vector<Eigen::Vector3d> places;  // per member, in the body frame
   std::vector<ObjectKeypoint> keypoints;
-  for (int l : members) {
-    const int index = static_cast<int>(places.size());
-    places.push_back(*map->PositionInCluster(l));
-    for (const StereoObservation& o : map->object_observations().Of(l))
-      if (!o.clipped) keypoints.push_back({o.frame, index, o.x, o.cov});
-  }
   std::map<int, Pose> poses;
-  for (const TrackState& s : track->states) poses[s.frame] = s.world_from_body;
-  std::vector<int> landmark_of;
-  for (const ObjectKeypoint& k : keypoints) landmark_of.push_back(k.landmark);
-  const ObjectAdjustment adjusted =
-      AdjustObject(keypoints, turns, &places, &poses, map->world_from_cam(), camera, time_of, motion);
-  if (auto log = GetLogger("system"); log->should_log(spdlog::level::debug))
+  ObjectAdjustment result;
+  bool keypoints_lead = false;
+};
+
+PendingAdjustment PrepareAdjustment(int id, const std::vector<int>& members,
+                                    std::vector<ObjectTurn> turns, const MapState& map,
+                                    const ObjectTrack& track) {
+  PendingAdjustment out;
+  out.id = id;
+  out.members = members;
+  out.turns = std::move(turns);
+  for (int l : members) {
+    const int index = static_cast<int>(out.places.size());
+    out.places.push_back(*map.PositionInCluster(l));
+    for (const StereoObservation& o : map.object_observations().Of(l))
+      if (!o.clipped) out.keypoints.push_back({o.frame, index, o.x, o.cov});
+  }
+  for (const TrackState& s : track.states) out.poses[s.frame] = s.world_from_body;
+  return out;
+}
+
+// Writes a kept fit into the map and the track. The body frame's origin goes back to the
+// landmarks' centroid; velocities follow the adjusted positions. Returns the frames adjusted.
+int ApplyAdjustment(const PendingAdjustment& pending, MapState* map, ObjectTrack* track) {
+  const ObjectAdjustment& adjusted = pending.result;
+  if (auto log = GetLogger("system"); log->should_log(spdlog::level::debug)) {
+    std::set<int> with_keypoints;
+    for (const ObjectKeypoint& k : pending.keypoints) with_keypoints.insert(k.landmark);
     log->debug(
-        "object adjustment: {} of {} keypoints explained, covariances x{:.2f}: {}",
-        adjusted.inliers, keypoints.size(), adjusted.keypoint_scale,
+        "object {} adjustment: {} of {} keypoints explained, covariances x{:.2f}: {}", pending.id,
+        adjusted.inliers, pending.keypoints.size(), adjusted.keypoint_scale,
         adjusted.adjusted
             ? fmt::format("kept, {} frames adjusted in {} stretches, {} of {} landmarks with keypoints fit",
                           adjusted.frames, adjusted.stretches,
                           std::count(adjusted.explained.begin(), adjusted.explained.end(), true),
-                          std::set<int>(landmark_of.begin(), landmark_of.end()).size())
+                          with_keypoints.size())
         : adjusted.implausible
             ? fmt::format("refused, at frame {} it {} {:.2f} {} (the motion model's bound: {:.2f})",
                           adjusted.implausible_frame,
@@ -198,7 +216,9 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
                           adjusted.implausible_value, adjusted.implausible_turn ? "rad" : "m/s",
                           adjusted.implausible_bound)
             : std::string("refused"));
+  }
   if (!adjusted.adjusted) return 0;
+  const std::vector<Eigen::Vector3d>& places = pending.places;
   // The origin at the centroid of the places the fit explains: one far static point taken in
   // by a window would otherwise carry it metres off the body.
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
@@ -209,11 +229,12 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
       ++explained;
     }
   if (explained > 0) centroid /= explained;
-  for (size_t i = 0; i < members.size(); ++i) map->SetPositionInCluster(members[i], places[i] - centroid);
+  for (size_t i = 0; i < pending.members.size(); ++i)
+    map->SetPositionInCluster(pending.members[i], places[i] - centroid);
   Pose to_centroid = Pose::Identity();
   to_centroid.translation() = centroid;
   std::vector<TrackState>& states = track->states;
-  for (TrackState& s : states) s.world_from_body = poses.at(s.frame) * to_centroid;
+  for (TrackState& s : states) s.world_from_body = pending.poses.at(s.frame) * to_centroid;
   for (size_t k = 0; k < states.size(); ++k) {
     const size_t a = k > 0 && states[k - 1].frame == states[k].frame - 1 ? k - 1 : k;
     const size_t b = k + 1 < states.size() && states[k + 1].frame == states[k].frame + 1 ? k + 1 : k;
@@ -224,13 +245,29 @@ int AdjustTrack(const std::vector<int>& members, const std::vector<ObjectTurn>& 
   return adjusted.frames;
 }
 
+// What is left once a track is final: the map's trajectory, and the body frame turned back to
+// the world's axes at its first frame where the keypoints turned it.
+void FinishTrack(int id, bool keypoints_lead, MapState* map, ObjectTrack* track) {
+  std::map<int, Pose> poses;
+  for (const TrackState& s : track->states) poses[s.frame] = s.world_from_body;
+  map->SetTrajectory(id, std::move(poses));
+  if (keypoints_lead && !track->states.empty()) {
+    Pose turn_back = Pose::Identity();
+    turn_back.linear() = track->states.front().world_from_body.linear().transpose();
+    map->ReframeCluster(id, turn_back);
+    for (TrackState& s : track->states) s.world_from_body = s.world_from_body * turn_back;
+  }
+}
+
 }  // namespace
 
 std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& table,
                                             const StereoCamera& camera,
                                             const std::vector<double>& timestamps,
                                             double frame_period_s,
-                                            const ObjectTrackOptions& options) {
+                                            const ObjectTrackOptions& options,
+                                            const TaskRunner* runner) {
+  std::vector<PendingAdjustment> pending;
   std::map<int, std::vector<int>> members;
   for (int l : map->Landmarks())
     if (const int c = map->ClusterOf(l); c >= 1 && map->clusters().count(c)) members[c].push_back(l);
@@ -371,20 +408,24 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
         turns.push_back({measurements[i - 1].frame, measurements[i].frame, *measurements[i].turn,
                          smoothed.rotation_scale * (a + b)});
       }
-      track.adjusted_frames =
-          AdjustTrack(m->second, turns, map, camera, time_of, options.smoother, &track);
+      pending.push_back(PrepareAdjustment(id, m->second, std::move(turns), *map, track));
+      pending.back().keypoints_lead = keypoints_lead;
+      continue;
     }
-    std::map<int, Pose> poses;
-    for (const TrackState& s : track.states) poses[s.frame] = s.world_from_body;
-    map->SetTrajectory(id, std::move(poses));
-    // The keypoints turn the body away from the axes the first window gave it; the body frame
-    // keeps the world's axes at the first frame of its track.
-    if (keypoints_lead && !track.states.empty()) {
-      Pose turn_back = Pose::Identity();
-      turn_back.linear() = track.states.front().world_from_body.linear().transpose();
-      map->ReframeCluster(id, turn_back);
-      for (TrackState& s : track.states) s.world_from_body = s.world_from_body * turn_back;
-    }
+    FinishTrack(id, keypoints_lead, map, &track);
+  }
+  // The objects' fits share nothing: side by side on the runner's threads. Each reads only its
+  // own inputs and the map's camera poses, which nothing writes meanwhile.
+  const std::vector<std::optional<Pose>>& world_from_cam = map->world_from_cam();
+  RunTasks(runner, static_cast<int>(pending.size()), [&](int i) {
+    PendingAdjustment& p = pending[i];
+    p.result = AdjustObject(p.keypoints, p.turns, &p.places, &p.poses, world_from_cam, camera,
+                            time_of, options.smoother);
+  });
+  for (const PendingAdjustment& p : pending) {
+    ObjectTrack& track = tracks.at(p.id);
+    track.adjusted_frames = ApplyAdjustment(p, map, &track);
+    FinishTrack(p.id, p.keypoints_lead, map, &track);
   }
   return tracks;
 }

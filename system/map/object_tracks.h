@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/stereo_camera.h"
+#include "core/task_runner.h"
 #include "core/tracklet_table.h"
 #include "system/map/map_state.h"
 #include "system/map/object_track_options.h"
@@ -31,11 +32,12 @@ struct ObjectTrack {
 /// Re-frames every moving cluster of `map` to its body frame and, with options.smooth,
 /// replaces its trajectory by the smoothed one. `timestamps` gives each frame's time (frames
 /// past its end: map frame_period_s apart). Returns the tracks by cluster id (empty without
-/// smoothing).
+/// smoothing). The objects' adjustments run through `runner` (one after another without it).
 std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& table,
                                             const StereoCamera& camera,
                                             const std::vector<double>& timestamps,
                                             double frame_period_s,
-                                            const ObjectTrackOptions& options);
+                                            const ObjectTrackOptions& options,
+                                            const TaskRunner* runner = nullptr);
 
 }  // namespace cslam

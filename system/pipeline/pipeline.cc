@@ -656,8 +656,9 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
                             candidates - released, candidates, released,
                             options.map.report_min_landmarks, options.map.report_min_frames,
                             options.map.report_min_windows);
+  // The backend's threads are idle by now: the objects' adjustments share them.
   out.object_tracks = MakeObjectTracks(&out.map, out.table, input.camera, input.timestamps,
-                                       options.map.frame_period_s, options.map.track);
+                                       options.map.frame_period_s, options.map.track, ba.runner.get());
   if (!out.object_tracks.empty()) {
     int measured = 0, rejected_positions = 0, rejected_rotations = 0, poses = 0;
     for (const auto& [id, t] : out.object_tracks) {
