@@ -149,6 +149,13 @@ Eigen::Matrix3d Whitening(const Eigen::Matrix3d& cov) {
 }
 
 
+// What a solve works on: poses, places and the direction of travel.
+struct FitState {
+  std::map<int, FramePose> poses;
+  std::vector<Eigen::Vector3d> places;
+  Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
+};
+
 // One stretch's fit: what FitStretch did.
 struct StretchFit {
   bool ok = false;
@@ -162,7 +169,7 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
                       std::map<int, FramePose>& poses,
                       const std::vector<std::optional<Pose>>& world_from_cam,
                       const StereoCamera& camera, const std::function<double(int)>& time_of,
-                      const TrackSmootherOptions& motion) {
+                      const TrackSmootherOptions& motion, const TaskRunner* runner) {
   StretchFit fit;
   // The angular acceleration the smoother's mean-reverting rate allows: its driving noise.
   const double angular_acceleration =
@@ -174,8 +181,12 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
                                                        : motion.angular_rate_sigma_radps;
   Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
   ceres::SphereManifold<3> sphere;
-  const auto solve = [&](double keypoint_scale, bool along_heading, double* initial,
-                         double* final_cost) {
+  // One solve from `state`, which it leaves at the solution; the starts below run side by side.
+  const auto solve_state = [&](FitState& state, double keypoint_scale, bool along_heading,
+                               double* initial, double* final_cost) {
+    std::map<int, FramePose>& poses = state.poses;
+    std::vector<Eigen::Vector3d>& places = state.places;
+    Eigen::Vector3d& heading = state.heading;
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
@@ -246,6 +257,14 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
     *final_cost = summary.final_cost;
     return summary.IsSolutionUsable() && summary.final_cost <= summary.initial_cost;
   };
+  const auto solve = [&](double keypoint_scale, bool along_heading, double* initial, double* final_cost) {
+    FitState state{std::move(poses), std::move(places), heading};
+    const bool ok = solve_state(state, keypoint_scale, along_heading, initial, final_cost);
+    poses = std::move(state.poses);
+    places = std::move(state.places);
+    heading = state.heading;
+    return ok;
+  };
 
   const std::map<int, FramePose> start_poses = poses;
   const std::vector<Eigen::Vector3d> start_places = places;
@@ -287,40 +306,27 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
       return Eigen::Vector3d(
           Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2).normalized());
     };
-    // From the current poses and places, with the direction of travel they show.
-    const auto solve_along_heading = [&](double* final) {
-      heading = direction_of_travel(poses);
-      double start_cost = 0;
-      return solve(fit.keypoint_scale, true, &start_cost, final);
-    };
     // Three starts: the free fit, the given track, and the given track without its turns (a
     // far car crossing the view was given, and fitted from both others, a spin of 100° over
     // 40 frames while it drove straight: its keypoints hardly fix its heading, and a spin that
-    // came in slowly is a valley of its own).
-    std::vector<std::pair<std::map<int, FramePose>, std::vector<Eigen::Vector3d>>> starts;
-    starts.emplace_back(poses, places);
-    starts.emplace_back(start_poses, start_places);
+    // came in slowly is a valley of its own). Each with the direction of travel it shows.
     std::map<int, FramePose> straight = start_poses;
     const FramePose first = straight.begin()->second;
     for (auto& [f, pose] : straight) std::copy(std::begin(first.q), std::end(first.q), pose.q);
-    starts.emplace_back(straight, start_places);
-    double best = std::numeric_limits<double>::infinity();
-    std::map<int, FramePose> best_poses;
-    std::vector<Eigen::Vector3d> best_places;
-    for (auto& [start, start_at] : starts) {
-      poses = start;
-      places = start_at;
-      double final = 0;
-      const bool ok = solve_along_heading(&final);
-      if (ok && final < best) {
-        best = final;
-        best_poses = poses;
-        best_places = places;
-      }
-    }
-    if (!std::isfinite(best)) return fit;
-    poses = std::move(best_poses);
-    places = std::move(best_places);
+    std::vector<FitState> starts = {{poses, places, heading},
+                                    {start_poses, start_places, heading},
+                                    {std::move(straight), start_places, heading}};
+    std::vector<double> finals(starts.size(), std::numeric_limits<double>::infinity());
+    RunTasks(runner, static_cast<int>(starts.size()), [&](int i) {
+      FitState& state = starts[i];
+      state.heading = direction_of_travel(state.poses);
+      double start_cost = 0, final = 0;
+      if (solve_state(state, fit.keypoint_scale, true, &start_cost, &final)) finals[i] = final;
+    });
+    const size_t best = std::min_element(finals.begin(), finals.end()) - finals.begin();
+    if (!std::isfinite(finals[best])) return fit;
+    poses = std::move(starts[best].poses);
+    places = std::move(starts[best].places);
   }
   fit.ok = true;
   return fit;
@@ -361,7 +367,7 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
                               std::map<int, Pose>* world_from_body,
                               const std::vector<std::optional<Pose>>& world_from_cam,
                               const StereoCamera& camera, const std::function<double(int)>& time_of,
-                              const TrackSmootherOptions& motion) {
+                              const TrackSmootherOptions& motion, const TaskRunner* runner) {
   ObjectAdjustment out;
   std::map<int, int> count;
   for (const ObjectKeypoint& k : keypoints)
@@ -400,7 +406,8 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     if (stretch.size() < 3) continue;
     const std::vector<Eigen::Vector3d> given_places = places;
     const std::map<int, FramePose> given_poses = stretch;
-    const StretchFit fit = FitStretch(own, turns, places, stretch, world_from_cam, camera, time_of, motion);
+    const StretchFit fit =
+        FitStretch(own, turns, places, stretch, world_from_cam, camera, time_of, motion, runner);
     // A fit that explains fewer than half of the keypoints (within the χ²₃ 99.9 % gate, at
     // their scaled covariances) started too far from the body to find it: the stretch keeps
     // its track.

@@ -18,6 +18,7 @@
 
 #include "core/rigid.h"
 #include "core/stereo_camera.h"
+#include "core/task_runner.h"
 #include "system/map/track_smoother.h"
 
 namespace cslam {
@@ -73,13 +74,15 @@ struct ObjectAdjustment {
 /// pose are left alone); `time_of` gives a frame's time. The result is kept only when the
 /// solver converged to a lower cost, explains at least half of the keypoints and moves the body
 /// as the motion model allows between every two frames; places whose keypoints it does not
-/// explain keep their given values.
+/// explain keep their given values. The fit's starts run through `runner` (one after another
+/// without it).
 ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
                               const std::vector<ObjectTurn>& turns,
                               std::vector<Eigen::Vector3d>* in_body,
                               std::map<int, Pose>* world_from_body,
                               const std::vector<std::optional<Pose>>& world_from_cam,
                               const StereoCamera& camera, const std::function<double(int)>& time_of,
-                              const TrackSmootherOptions& motion);
+                              const TrackSmootherOptions& motion,
+                              const TaskRunner* runner = nullptr);
 
 }  // namespace cslam

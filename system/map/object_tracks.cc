@@ -420,7 +420,7 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
   RunTasks(runner, static_cast<int>(pending.size()), [&](int i) {
     PendingAdjustment& p = pending[i];
     p.result = AdjustObject(p.keypoints, p.turns, &p.places, &p.poses, world_from_cam, camera,
-                            time_of, options.smoother);
+                            time_of, options.smoother, runner);
   });
   for (const PendingAdjustment& p : pending) {
     ObjectTrack& track = tracks.at(p.id);
