@@ -153,7 +153,7 @@ Eigen::Matrix3d Whitening(const Eigen::Matrix3d& cov) {
 struct FitState {
   std::map<int, FramePose> poses;
   std::vector<Eigen::Vector3d> places;
-  Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();  // in the body frame, either sign
 };
 
 // One stretch's fit: what FitStretch did.
@@ -163,7 +163,8 @@ struct StretchFit {
 };
 
 // Fits the poses of one stretch (frames tied together by shared landmarks) and its landmarks'
-// places to its keypoints under the motion model; its first pose is held.
+// places to its keypoints under the motion model; its first pose is held. `poses` and `places`
+// change only when the fit succeeds.
 StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
                       const std::vector<ObjectTurn>& turns, std::vector<Eigen::Vector3d>& places,
                       std::map<int, FramePose>& poses,
@@ -175,15 +176,13 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
   const double angular_acceleration =
       std::sqrt(2 * motion.angular_rate_sigma_radps * motion.angular_rate_sigma_radps /
                 motion.angular_rate_time_s);
-  // The direction of travel in the body frame (either sign), set before the solve that uses it.
   const double heading_sigma = motion.lateral_velocity_mps;
   const double tilt = motion.tilt_rate_sigma_radps > 0 ? motion.tilt_rate_sigma_radps
                                                        : motion.angular_rate_sigma_radps;
-  Eigen::Vector3d heading = Eigen::Vector3d::UnitZ();
   ceres::SphereManifold<3> sphere;
   // One solve from `state`, which it leaves at the solution; the starts below run side by side.
-  const auto solve_state = [&](FitState& state, double keypoint_scale, bool along_heading,
-                               double* initial, double* final_cost) {
+  const auto solve = [&](FitState& state, double keypoint_scale, bool along_heading,
+                         double* final_cost) {
     std::map<int, FramePose>& poses = state.poses;
     std::vector<Eigen::Vector3d>& places = state.places;
     Eigen::Vector3d& heading = state.heading;
@@ -239,54 +238,42 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
     }
     ceres::Solver::Options options;
     // The normal equations, not the Schur complement: the steps are the same, but Ceres 2.1's
-    // Schur path with Eigen rebuilds and sorts the reduced matrix at every iteration, and that
-    // made it several times slower on these problems (docs/benchmarks.md). Eigen's sparse
+    // Schur path with Eigen rebuilds and sorts the reduced matrix at every iteration. Eigen's sparse
     // Cholesky, not CHOLMOD: CHOLMOD runs OpenMP threads of its own, outside the system's
     // threads and its core reservation (and outside ThreadSanitizer's view).
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     options.sparse_linear_algebra_library_type = ceres::EIGEN_SPARSE;
     options.max_num_iterations = 50;
-    // Ceres' default 1e-6 ran most fits to the iteration cap; 1e-5 ends them at a third of the
-    // time with the same tracks (docs/experiments/2026-12-06-direction-of-travel.md).
+    // Ceres' default 1e-6 ran most fits to the iteration cap, to the same tracks that 1e-5
+    // ends at far sooner.
     options.function_tolerance = 1e-5;
     options.num_threads = 1;
     options.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
-    *initial = summary.initial_cost;
     *final_cost = summary.final_cost;
     return summary.IsSolutionUsable() && summary.final_cost <= summary.initial_cost;
   };
-  const auto solve = [&](double keypoint_scale, bool along_heading, double* initial, double* final_cost) {
-    FitState state{std::move(poses), std::move(places), heading};
-    const bool ok = solve_state(state, keypoint_scale, along_heading, initial, final_cost);
-    poses = std::move(state.poses);
-    places = std::move(state.places);
-    heading = state.heading;
-    return ok;
-  };
 
-  const std::map<int, FramePose> start_poses = poses;
-  const std::vector<Eigen::Vector3d> start_places = places;
-  double initial = 0, final_cost = 0;
-  if (!solve(1.0, false, &initial, &final_cost)) return fit;
+  const FitState start{poses, places};
+  FitState current = start;
+  double final_cost = 0;
+  if (!solve(current, 1.0, false, &final_cost)) return fit;
   // The keypoints' spread about the fit says how far to trust their covariances.
   std::vector<double> squared;
   squared.reserve(used.size());
   for (const ObjectKeypoint* k : used) {
     double r[3];
-    const FramePose& pose = poses.at(k->frame);
+    const FramePose& pose = current.poses.at(k->frame);
     Reprojection(camera, world_from_cam[k->frame]->inverse(), k->x, Whitening(k->cov))(
-        pose.q, pose.t, places[k->landmark].data(), r);
+        pose.q, pose.t, current.places[k->landmark].data(), r);
     squared.push_back(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
   }
-  std::vector<double> sorted = squared;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  fit.keypoint_scale = std::max(1.0, sorted[sorted.size() / 2] / kChi2Median3);
+  std::nth_element(squared.begin(), squared.begin() + squared.size() / 2, squared.end());
+  fit.keypoint_scale = std::max(1.0, squared[squared.size() / 2] / kChi2Median3);
   if (fit.keypoint_scale > 1.5) {
-    poses = start_poses;
-    places = start_places;
-    if (!solve(fit.keypoint_scale, false, &initial, &final_cost)) return fit;
+    current = start;
+    if (!solve(current, fit.keypoint_scale, false, &final_cost)) return fit;
   }
   if (heading_sigma > 0) {
     // Several starts, the lowest cost kept, each with the dominant direction of its velocities
@@ -310,24 +297,23 @@ StretchFit FitStretch(const std::vector<const ObjectKeypoint*>& used,
     // far car crossing the view was given, and fitted from both others, a spin of 100° over
     // 40 frames while it drove straight: its keypoints hardly fix its heading, and a spin that
     // came in slowly is a valley of its own). Each with the direction of travel it shows.
-    std::map<int, FramePose> straight = start_poses;
-    const FramePose first = straight.begin()->second;
-    for (auto& [f, pose] : straight) std::copy(std::begin(first.q), std::end(first.q), pose.q);
-    std::vector<FitState> starts = {{poses, places, heading},
-                                    {start_poses, start_places, heading},
-                                    {std::move(straight), start_places, heading}};
+    FitState straight = start;
+    const FramePose first = straight.poses.begin()->second;
+    for (auto& [f, pose] : straight.poses) std::copy(std::begin(first.q), std::end(first.q), pose.q);
+    std::vector<FitState> starts = {std::move(current), start, std::move(straight)};
     std::vector<double> finals(starts.size(), std::numeric_limits<double>::infinity());
     RunTasks(runner, static_cast<int>(starts.size()), [&](int i) {
       FitState& state = starts[i];
       state.heading = direction_of_travel(state.poses);
-      double start_cost = 0, final = 0;
-      if (solve_state(state, fit.keypoint_scale, true, &start_cost, &final)) finals[i] = final;
+      double final = 0;
+      if (solve(state, fit.keypoint_scale, true, &final)) finals[i] = final;
     });
     const size_t best = std::min_element(finals.begin(), finals.end()) - finals.begin();
     if (!std::isfinite(finals[best])) return fit;
-    poses = std::move(starts[best].poses);
-    places = std::move(starts[best].places);
+    current = std::move(starts[best]);
   }
+  poses = std::move(current.poses);
+  places = std::move(current.places);
   fit.ok = true;
   return fit;
 }
@@ -404,7 +390,6 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
     // Too short to fit: its frames go with the stretches about them, like frames without
     // keypoints.
     if (stretch.size() < 3) continue;
-    const std::vector<Eigen::Vector3d> given_places = places;
     const std::map<int, FramePose> given_poses = stretch;
     const StretchFit fit =
         FitStretch(own, turns, places, stretch, world_from_cam, camera, time_of, motion, runner);
@@ -423,7 +408,7 @@ ObjectAdjustment AdjustObject(const std::vector<ObjectKeypoint>& keypoints,
       verdicts.emplace_back(k->landmark, inlier);
     }
     if (!fit.ok || 2 * inliers < static_cast<int>(own.size())) {
-      places = given_places;
+      // Its places count as unexplained and go back to the given ones below.
       stretch = given_poses;
     } else {
       out.inliers += inliers;
