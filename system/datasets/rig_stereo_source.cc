@@ -1,13 +1,12 @@
 #include "system/datasets/rig_stereo_source.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <filesystem>
 #include <stdexcept>
 
 #include "core/errors.h"
 #include "core/logging.h"
 #include "system/datasets/rig_calibration.h"
+#include "system/io/png_codec.h"
 
 namespace cslam {
 
@@ -18,15 +17,7 @@ namespace {
 cv::Mat Decode(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "expected an image file; it is missing");
-  cv::Mat image;
-  try {
-    image = cv::imread(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
-    throw InputError(path, std::string("cannot decode the image: ") + e.what());
-  }
-  if (image.empty() || (image.type() != CV_8UC1 && image.type() != CV_16UC1))
-    throw InputError(path, "cannot decode the image (corrupt, or not an 8- or 16-bit image)");
-  return image;
+  return ReadPng(path, PngPixels::kGreyAnyDepth);
 }
 
 }  // namespace

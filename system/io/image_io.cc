@@ -1,24 +1,22 @@
 #include "system/io/image_io.h"
 
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 #include <vector>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "system/io/png_codec.h"
 
 namespace cslam {
 
 void WritePng(const cv::Mat& image, const std::string& path) {
   if (image.empty()) throw OutputError(path, "refusing to write an empty image");
   std::vector<unsigned char> bytes;
-  bool ok = false;
   try {
-    ok = cv::imencode(".png", image, bytes);
-  } catch (const cv::Exception& e) {
-    throw OutputError(path, std::string("PNG encoding failed: ") + e.what());
+    bytes = EncodePng(image);
+  } catch (const std::exception& e) {
+    throw OutputError(path, e.what());
   }
-  if (!ok) throw OutputError(path, "PNG encoding failed (unsupported image type?)");
   WriteFileAtomically(path, [&bytes](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(bytes.data()),
               static_cast<std::streamsize>(bytes.size()));

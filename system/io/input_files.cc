@@ -1,7 +1,5 @@
 #include "system/io/input_files.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +9,7 @@
 #include <sstream>
 
 #include "core/errors.h"
+#include "system/io/png_codec.h"
 
 namespace cslam {
 
@@ -57,14 +56,7 @@ std::vector<std::string> ListPngFiles(const std::string& dir) {
 cv::Mat LoadGreyImage(const std::string& path, int expected_width, int expected_height) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "expected an image file; it is missing");
-  cv::Mat image;
-  try {
-    image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  } catch (const cv::Exception& e) {
-    throw InputError(path, std::string("cannot decode the image: ") + e.what());
-  }
-  if (image.empty() || image.type() != CV_8UC1)
-    throw InputError(path, "cannot decode the image (corrupt or not an image)");
+  const cv::Mat image = ReadPng(path, PngPixels::kGrey8);
   if (expected_width > 0 && (image.cols != expected_width || image.rows != expected_height))
     throw InputError(path, "expected a " + std::to_string(expected_width) + "x" +
                                std::to_string(expected_height) + " image, got " +

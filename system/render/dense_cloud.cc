@@ -1,14 +1,11 @@
 #include "system/render/dense_cloud.h"
 
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-
 #include <opencv2/calib3d.hpp>
 #include <string>
 
 #include "core/errors.h"
+#include "system/render/nearest_point.h"
+#include "system/render/voxel_downsample.h"
 
 namespace cslam {
 namespace {
@@ -32,7 +29,7 @@ void DenseCloudOptions::Check() const {
   CheckOption(min_depth_m > 0, "dense.min_depth_m", "must be > 0", min_depth_m);
   CheckOption(max_depth_m > min_depth_m, "dense.max_depth_m", "must be > dense.min_depth_m",
               max_depth_m);
-  // PCL's voxel grid indexes voxels with 32-bit integers.
+  // A voxel per 1/1000 of the depth range at most: finer grids only cost memory.
   CheckOption(voxel_size_m > 0 && 2.0 * max_depth_m / voxel_size_m < 1000.0, "dense.voxel_size_m",
               "must be > 0 and at least 2 * max_depth_m / 1000", voxel_size_m);
   CheckOption(max_assign_distance_m > 0, "dense.max_assign_distance_m", "must be > 0",
@@ -74,8 +71,8 @@ std::vector<RenderPoint> LabelDenseCloud(const cv::Mat& left, const cv::Mat& rig
   cv::Mat disparity;
   sgbm->compute(left, right, disparity);
 
-  auto stereo = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  stereo->reserve(static_cast<std::size_t>(left.total() / 4));
+  std::vector<Eigen::Vector3f> stereo;
+  stereo.reserve(static_cast<std::size_t>(left.total() / 4));
   for (int v = 0; v < disparity.rows; ++v) {
     const auto* row = disparity.ptr<std::int16_t>(v);
     for (int u = 0; u < disparity.cols; ++u) {
@@ -84,47 +81,34 @@ std::vector<RenderPoint> LabelDenseCloud(const cv::Mat& left, const cv::Mat& rig
       Eigen::Vector3d p_in_cam;
       if (!cam.BackProject(Eigen::Vector3d(u, v, u - d), &p_in_cam)) continue;
       if (p_in_cam.z() < options.min_depth_m || p_in_cam.z() > options.max_depth_m) continue;
-      const Eigen::Vector3f p = (world_from_cam * p_in_cam).cast<float>();
-      stereo->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+      stereo.push_back((world_from_cam * p_in_cam).cast<float>());
     }
   }
+  const std::vector<Eigen::Vector3f> downsampled = VoxelCentroids(stereo, options.voxel_size_m);
 
-  pcl::PointCloud<pcl::PointXYZ> downsampled;
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setInputCloud(stereo);
-  const float leaf = static_cast<float>(options.voxel_size_m);
-  grid.setLeafSize(leaf, leaf, leaf);
-  grid.filter(downsampled);
-
-  auto clustered = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
+  std::vector<Eigen::Vector3f> clustered;
   std::vector<int> cluster_of;
   for (const auto& l : landmarks) {
     if (l.cluster < 0 || !l.p.allFinite()) continue;
-    clustered->push_back(pcl::PointXYZ(static_cast<float>(l.p.x()), static_cast<float>(l.p.y()),
-                                       static_cast<float>(l.p.z())));
+    clustered.push_back(l.p.cast<float>());
     cluster_of.push_back(l.cluster);
   }
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  if (!clustered->empty()) tree.setInputCloud(clustered);
+  const NearestPointWithin nearest(std::move(clustered), options.max_assign_distance_m);
 
   std::vector<RenderPoint> out;
   out.reserve(downsampled.size());
-  const double max_sq = options.max_assign_distance_m * options.max_assign_distance_m;
-  std::vector<int> index(1);
-  std::vector<float> sq_distance(1);
   int labelled = 0;
-  for (const auto& q : downsampled) {
+  for (const Eigen::Vector3f& q : downsampled) {
     RenderPoint r;
-    r.p = Eigen::Vector3d(q.x, q.y, q.z);
-    if (!clustered->empty() && tree.nearestKSearch(q, 1, index, sq_distance) == 1 &&
-        sq_distance[0] <= max_sq) {
-      r.cluster = cluster_of[static_cast<std::size_t>(index[0])];
+    r.p = q.cast<double>();
+    if (const int i = nearest.Find(q); i >= 0) {
+      r.cluster = cluster_of[static_cast<std::size_t>(i)];
       ++labelled;
     }
     out.push_back(r);
   }
   if (stats) {
-    stats->stereo_points = static_cast<int>(stereo->size());
+    stats->stereo_points = static_cast<int>(stereo.size());
     stats->downsampled_points = static_cast<int>(downsampled.size());
     stats->labelled_points = labelled;
   }

@@ -8,7 +8,7 @@
 
 namespace cslam {
 
-/// Writes `points` as binary PLY to `ply_path` and binary PCD to `pcd_path` (pcl::PointXYZRGB,
+/// Writes `points` as binary PLY to `ply_path` and binary PCD to `pcd_path` (PCL's PointXYZRGB,
 /// float coordinates), each through a temporary file renamed into place; missing folders are
 /// created. Points with non-finite coordinates are skipped. Throws OutputError naming the file
 /// on failure.

@@ -3,11 +3,11 @@
 #include <charconv>
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "system/io/image_io.h"
+#include "system/io/png_codec.h"
 
 namespace cslam {
 
@@ -44,8 +44,7 @@ cv::Mat ReadObjectIdImage(const std::string& dir, int frame) {
   const std::string path = (fs::path(SyntheticImagesDir(dir)) / "object_id" / SyntheticFrameFile(frame)).string();
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "expected an object-id image; it does not exist");
-  cv::Mat ids = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (ids.empty()) throw InputError(path, "cannot decode the object-id image (not a PNG?)");
+  cv::Mat ids = ReadPng(path, PngPixels::kUnchanged);
   if (ids.type() != CV_16UC1)
     throw InputError(path, "expected a 16-bit single-channel object-id PNG");
   return ids;
