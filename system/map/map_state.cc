@@ -631,6 +631,47 @@ std::vector<Eigen::Vector3d> MapState::PointsOf(const std::vector<int>& ids) con
   return points;
 }
 
+std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
+  std::vector<std::pair<int, int>> merged;
+  if (!(options_.co_location_ratio > 0)) return merged;
+  for (bool again = true; again;) {
+    again = false;
+    std::map<int, std::vector<Eigen::Vector3d>> points;
+    for (int l : Landmarks())
+      if (const int c = ClusterOf(l); c >= 1 && clusters_.count(c)) points[c].push_back(*PositionInCluster(l));
+    for (const auto& [younger, younger_points] : points) {
+      // As in the windows' merge test: fewer than 3 points do not fix a body's place.
+      if (younger_points.size() < 3) continue;
+      const MapCluster& y = clusters_.at(younger);
+      for (const auto& [older, older_points] : points) {
+        if (older >= younger) break;
+        if (older_points.size() < 3) continue;
+        const MapCluster& o = clusters_.at(older);
+        const CoLocation loc =
+            CompareLocations(o.world_from_cluster, older_points, y.world_from_cluster, younger_points);
+        // Pairs that shared motion_min_frames frames were judged by the windows' motion test
+        // as well, on many frames, and kept apart: two bodies close together, or clusters that
+        // each hold parts of two. What the end can judge better is a hand-over: too few shared
+        // frames for the motion test, and the place test on poses metres off.
+        if (loc.frames < options_.co_location_min_frames || loc.frames >= options_.motion_min_frames ||
+            loc.median_ratio > options_.co_location_ratio)
+          continue;
+        const MotionAgreement offset =
+            CompareMotions(o.world_from_cluster, y.world_from_cluster, younger_points, world_from_cam_);
+        GetLogger("system")->debug("object {} merged into {} at the end: {} shared frames, centres "
+                                   "{:.2f} of the smaller extent apart",
+                                   younger, older, loc.frames, loc.median_ratio);
+        MergeInto(older, younger, offset.a_from_b);
+        merged.emplace_back(older, younger);
+        again = true;
+        break;
+      }
+      if (again) break;
+    }
+  }
+  return merged;
+}
+
 void MapState::MergeAgreeingClusters(WindowIntegration* info) {
   ReappearanceGate gate;
   gate.frame_period_s = options_.frame_period_s;

@@ -207,6 +207,12 @@ class MapState {
     object_observations_.Keep(window_table, ids, *this);
   }
   const ObjectObservations& object_observations() const { return object_observations_; }
+  /// Merges moving clusters that occupy one place (co_location_ratio, co_location_min_frames)
+  /// as their trajectories now stand, over fewer shared frames than motion_min_frames (a
+  /// hand-over from one cluster to the next), live and retired landmarks alike, oldest first; returns
+  /// the (surviving, merged) pairs. For the end of a run: the windows judged the place test on
+  /// their own poses, far noisier than the object tracks' (system/map/object_tracks.h).
+  std::vector<std::pair<int, int>> MergeCoLocatedClusters();
   /// Integrated windows whose frames overlap [first, last].
   int WindowsCovering(int first, int last) const;
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).

@@ -13,6 +13,7 @@ void ObjectTrackOptions::Check() const {
 void ObjectTrackOptions::Load(OptionsReader& r) {
   r.Read("smooth", &smooth);
   r.Read("adjust", &adjust);
+  r.Read("merge_co_located", &merge_co_located);
   r.Read("pixel_sigma", &pixel_sigma);
   smoother.Load(r);
 }

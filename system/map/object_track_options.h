@@ -13,6 +13,11 @@ struct ObjectTrackOptions {
   /// The smoothed track and the landmarks' places are refitted to the kept keypoints under the
   /// smoother's motion model (system/map/object_adjustment.h).
   bool adjust = true;
+  /// With the tracks made, objects that occupy one place (the map's place test,
+  /// map.co_location_ratio) are merged and their union tracked again: the windows judged that
+  /// test on poses metres off for a far car, so a car handed from one window cluster to the
+  /// next within a frame or two could stay two objects.
+  bool merge_co_located = true;
   /// Standard deviation of a keypoint (px) in the landmarks' measurement covariance.
   double pixel_sigma = 1.0;
   TrackSmootherOptions smoother;

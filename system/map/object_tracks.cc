@@ -261,12 +261,14 @@ void FinishTrack(int id, bool keypoints_lead, MapState* map, ObjectTrack* track)
 
 }  // namespace
 
-std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& table,
-                                            const StereoCamera& camera,
-                                            const std::vector<double>& timestamps,
-                                            double frame_period_s,
-                                            const ObjectTrackOptions& options,
-                                            const TaskRunner* runner) {
+namespace {
+
+// Tracks the moving clusters `ids` of `map` into `tracks` (see MakeObjectTracks).
+void TrackObjects(const std::vector<int>& ids, MapState* map, const TrackletTable& table,
+                  const StereoCamera& camera, const std::vector<double>& timestamps,
+                  double frame_period_s, const ObjectTrackOptions& options,
+                  const TaskRunner* runner, std::map<int, ObjectTrack>* tracks_out) {
+  std::map<int, ObjectTrack>& tracks = *tracks_out;
   std::vector<PendingAdjustment> pending;
   std::map<int, std::vector<int>> members;
   for (int l : map->Landmarks())
@@ -275,9 +277,6 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
     return f < static_cast<int>(timestamps.size()) ? timestamps[f] : f * frame_period_s;
   };
   const Eigen::Matrix3d pixel_cov = options.pixel_sigma * options.pixel_sigma * Eigen::Matrix3d::Identity();
-  std::map<int, ObjectTrack> tracks;
-  std::vector<int> ids;
-  for (const auto& [id, c] : map->clusters()) ids.push_back(id);
   for (int id : ids) {
     const MapCluster& cluster = map->clusters().at(id);
     const auto m = members.find(id);
@@ -427,6 +426,31 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
     track.adjusted_frames = ApplyAdjustment(p, map, &track);
     FinishTrack(p.id, p.keypoints_lead, map, &track);
   }
+}
+
+}  // namespace
+
+std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& table,
+                                            const StereoCamera& camera,
+                                            const std::vector<double>& timestamps,
+                                            double frame_period_s,
+                                            const ObjectTrackOptions& options,
+                                            const TaskRunner* runner) {
+  std::map<int, ObjectTrack> tracks;
+  std::vector<int> ids;
+  for (const auto& [id, c] : map->clusters()) ids.push_back(id);
+  TrackObjects(ids, map, table, camera, timestamps, frame_period_s, options, runner, &tracks);
+  if (!options.smooth || !options.merge_co_located) return tracks;
+  std::set<int> again;
+  for (const auto& [kept, gone] : map->MergeCoLocatedClusters()) {
+    again.erase(gone);
+    tracks.erase(gone);
+    again.insert(kept);
+  }
+  if (again.empty()) return tracks;
+  for (int id : again) tracks.erase(id);
+  TrackObjects({again.begin(), again.end()}, map, table, camera, timestamps, frame_period_s,
+               options, runner, &tracks);
   return tracks;
 }
 

@@ -406,6 +406,47 @@ TEST(MapState, ABodyHandedOverBetweenWindowsInAFewFramesIsMergedByPlace) {
   EXPECT_EQ(ClustersAfterAHandOver(4), 3);  // more shared frames asked for than there are
 }
 
+// The same hand-over, but the second window places object 1 five metres off (a far car's
+// window poses): the place test cannot merge the two clusters then. Once the end of the run has
+// tracked both where they are, it can; object 2, elsewhere, stays apart.
+TEST(MapState, AHandOverTheWindowsPlacedApartIsMergedOnceTheTracksAgreeOnItsPlace) {
+  const World w = MakeWorld(60);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  MotionEstimate e = PerfectWindow(w, {27, 57}, {{1, 1}, {2, 2}});
+  const std::vector<int> fresh = Reidentify(w, 1, &e);
+  Pose shift = Pose::Identity();
+  shift.translation() = Eigen::Vector3d(5, 0, 0);
+  for (ClusterMotion& m : e.clusters) {
+    if (m.cluster != 1) continue;
+    for (size_t k = 0; k < m.frames.size(); ++k) {
+      m.world_from_cluster[k] = shift * m.world_from_cluster[k];
+      m.cam_from_cluster[k] = e.world_from_cam[m.frames[k] - 27].inverse() * m.world_from_cluster[k];
+    }
+  }
+  map.Integrate(e);
+  const int handed = map.ClusterOf(fresh[0]);
+  ASSERT_EQ(map.clusters().size(), 3u);
+  ASSERT_NE(handed, 1);
+  EXPECT_TRUE(map.MergeCoLocatedClusters().empty());  // still five metres off
+
+  // The second window's world is the camera at frame 27, the map's the camera at frame 0.
+  const Pose map_from_window = w.world_from_cam[0].inverse() * w.world_from_cam[27];
+  const Pose unshift = map_from_window * shift.inverse() * map_from_window.inverse();
+  std::map<int, Pose> tracked;
+  for (const auto& [f, pose] : map.clusters().at(handed).world_from_cluster) tracked[f] = unshift * pose;
+  map.SetTrajectory(handed, tracked);
+  const std::vector<std::pair<int, int>> merged = map.MergeCoLocatedClusters();
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0], (std::pair<int, int>{1, handed}));
+  ASSERT_EQ(map.clusters().size(), 2u);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  EXPECT_EQ(map.ClusterOf(45), 2);
+  ExpectFollows(w, map, 1, 1);  // one body over all 57 frames
+  for (int l : fresh)  // the handed-over points land where the body carries them
+    EXPECT_LT((*map.WorldPosition(l, 50) - w.world_from_object[0][50] * w.p_in_object[30 + (l - fresh[0])]).norm(), 1e-6);
+}
+
 // Object 1 is hidden from frame 30 to 49 (behind a parked van): the window over 25..54 does
 // not see it, and the one over 50..79 finds it on new tracks, sharing no frame with the map.
 int ClustersAfterAnOcclusion(double reappearance_max_gap_s, std::vector<int>* fresh,
