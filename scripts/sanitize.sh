@@ -31,7 +31,7 @@ TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|^WorkerPool\.|CliSignal|^CliTrackingLoss'}
 # under TSan. The warm-started batch's 60-pose solves went to CHOLMOD, whose OpenMP threads
 # (libgomp, built without TSan) TSan reports as racing on CHOLMOD's own workspace; both tests
 # run in the gcc and ASan suites.
-TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|WarmStartedBatchClustersAsWellAsTheColdOne|TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa)$'}
+TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|WarmStartedBatchClustersAsWellAsTheColdOne|WarmBatchReportsEachFarCarOfAnOutdoorDriveOnce|TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa)$'}
 TEST_TIMEOUT=${TEST_TIMEOUT:-1500}
 SUPP="$PWD/scripts/sanitizers"
 source scripts/sanitizers/build_args.sh

@@ -71,8 +71,13 @@ struct BatchOptions {
   /// Rounds of model assignment + estimation over the whole sequence from the prior
   /// (backend.window_prior.max_iterations of that one call).
   int max_iterations = 3;
-  /// LM iterations of each of those adjustments (backend.window_prior.ba_iterations).
-  int ba_iterations = 50;
+  /// LM iterations of each of those adjustments at most (backend.window_prior.ba_iterations);
+  /// each stops earlier at the function tolerance. A cap, not a schedule: the whole-sequence
+  /// solve of a far car's 40 poses and ~100 points takes hundreds of small accepted steps to
+  /// converge (its depth direction is weakly observed), and one stopped half-way judges half
+  /// of the car's landmarks as not fitting, which the outlier re-clustering then makes a
+  /// second object of the same car (docs/experiments/2026-12-07-batch-solves-run-to-convergence.md).
+  int ba_iterations = 500;
   /// The whole-sequence call's solves of at least sparse_schur_min_poses poses run on the
   /// native profile solver (backend.motion.bundle_adjustment.native_sparse_solver of that
   /// call; the online windows' solves are smaller and unaffected). On here although off for
