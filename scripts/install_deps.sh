@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages clusterslam builds against (only what is missing).
 set -euo pipefail
 PKGS=(build-essential cmake ninja-build pkg-config
-      libopencv-dev libpng-dev libeigen3-dev libceres-dev libsuitesparse-dev libpcl-dev libosmesa6-dev
+      libopencv-dev libpng-dev libdeflate-dev libeigen3-dev libceres-dev libsuitesparse-dev libpcl-dev libosmesa6-dev
       libspdlog-dev libcli11-dev libyaml-cpp-dev nlohmann-json3-dev libtinyxml2-dev
       libgtest-dev libgmock-dev libbenchmark-dev
       clang libclang-rt-dev llvm   # sanitizers, libFuzzer, llvm-symbolizer (scripts/sanitize.sh, fuzz.sh)

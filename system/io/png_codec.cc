@@ -3,12 +3,15 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 
 #include "core/errors.h"
+#include "system/io/png_fast_decode.h"
 
 namespace cslam {
 
@@ -16,8 +19,9 @@ namespace {
 
 // libpng reports errors by calling back and never returning: the callback keeps the message
 // and jumps back to the setjmp of the call that started the work. Only C frames and frames
-// with trivially destructible locals (ReadImage, WriteImage) lie between, so the jump skips no
-// destructor; everything with one lives in the caller's Job, created before setjmp.
+// with trivially destructible locals (ReadImage, ReadBytes, WriteImage) lie between, so the
+// jump skips no destructor; everything with one lives in the caller's Job, created before
+// setjmp.
 void OnError(png_structp png, png_const_charp message) {
   if (auto* error = static_cast<std::string*>(png_get_error_ptr(png)))
     *error = message ? message : "unknown libpng error";
@@ -30,10 +34,19 @@ void OnWarning(png_structp, png_const_charp) {}
 
 struct ReadJob {
   PngPixels pixels = PngPixels::kGrey8;
+  std::span<const unsigned char> bytes;  // the whole file
+  std::size_t read = 0;                  // how much of it libpng has taken
   cv::Mat image;
   std::vector<png_bytep> rows;
   std::string error;
 };
+
+void ReadBytes(png_structp png, png_bytep data, png_size_t size) {
+  auto* job = static_cast<ReadJob*>(png_get_io_ptr(png));
+  if (size > job->bytes.size() - job->read) png_error(png, "unexpected end of file");
+  std::memcpy(data, job->bytes.data() + job->read, size);
+  job->read += size;
+}
 
 bool LittleEndian() {
   const unsigned short one = 1;
@@ -81,7 +94,7 @@ void ReadImage(png_structp png, png_infop info, ReadJob* job) {
   png_read_end(png, nullptr);
 }
 
-bool Read(std::FILE* file, ReadJob* job) {
+bool Read(ReadJob* job) {
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job->error, OnError, OnWarning);
   if (!png) {
     job->error = "libpng could not start (out of memory)";
@@ -97,7 +110,7 @@ bool Read(std::FILE* file, ReadJob* job) {
     png_destroy_read_struct(&png, &info, nullptr);
     return false;
   }
-  png_init_io(png, file);
+  png_set_read_fn(png, job, ReadBytes);
   ReadImage(png, info, job);
   png_destroy_read_struct(&png, &info, nullptr);
   return true;
@@ -170,20 +183,45 @@ struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
 
+// Reads the file at `path` into `buffer`, which is grown but never shrunk (it is kept for the
+// next file), and returns the file's length.
+std::size_t ReadFile(const std::string& path, std::vector<unsigned char>* buffer) {
+  const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) throw InputError(path, "cannot open the image file");
+  constexpr std::size_t kBlock = 1 << 16;
+  std::size_t size = 0;
+  for (;;) {
+    if (buffer->size() - size < kBlock) buffer->resize(std::max(2 * buffer->size(), size + kBlock));
+    const std::size_t got = std::fread(buffer->data() + size, 1, buffer->size() - size, file.get());
+    size += got;
+    if (got == 0) break;
+  }
+  if (std::ferror(file.get())) throw InputError(path, "cannot read the image file");
+  return size;
+}
+
 }  // namespace
 
 cv::Mat ReadPng(const std::string& path, PngPixels pixels) {
-  const std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw InputError(path, "cannot open the image file");
-  unsigned char signature[8] = {};
-  if (std::fread(signature, 1, sizeof(signature), file.get()) != sizeof(signature) ||
-      png_sig_cmp(signature, 0, sizeof(signature)) != 0)
-    throw InputError(path, "cannot decode the image: not a PNG file");
-  std::rewind(file.get());
+  // Kept per thread between files: the dataset readers decode two images of the same size
+  // per frame, and fresh buffers of that size cost page faults on every one.
+  thread_local std::vector<unsigned char> buffer;
+  thread_local PngFastDecoder fast;
+  const std::span<const unsigned char> bytes(buffer.data(), ReadFile(path, &buffer));
+  cv::Mat image;
+  if (fast.Decode(bytes, pixels, &image) == PngFastResult::kDecoded) return image;
+  return DecodePngWithLibpng(bytes, pixels, path);
+}
+
+cv::Mat DecodePngWithLibpng(std::span<const unsigned char> bytes, PngPixels pixels,
+                            const std::string& name) {
+  if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0)
+    throw InputError(name, "cannot decode the image: not a PNG file");
   ReadJob job;
   job.pixels = pixels;
-  if (!Read(file.get(), &job))
-    throw InputError(path, "cannot decode the image (corrupt PNG: " + job.error + ")");
+  job.bytes = bytes;
+  if (!Read(&job))
+    throw InputError(name, "cannot decode the image (corrupt PNG: " + job.error + ")");
   return job.image;
 }
 
