@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ASAN_DIR=${ASAN_DIR:-build-asan}
 FUZZ_SECONDS=${FUZZ_SECONDS:-30}
-TARGETS=${FUZZ_TARGETS:-calibration rig_calibration oxts tracklets options synthetic}
+TARGETS=${FUZZ_TARGETS:-calibration rig_calibration oxts tracklets options synthetic png}
 JOBS=${JOBS:-$(nproc)}
 export CC=clang CXX=clang++
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1"
