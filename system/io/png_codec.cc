@@ -48,6 +48,9 @@ void ReadBytes(png_structp png, png_bytep data, png_size_t size) {
   job->read += size;
 }
 
+// DEFLATE's largest expansion (a stream of maximal-length matches).
+constexpr double kMaxInflateRatio = 1032.0;
+
 bool LittleEndian() {
   const unsigned short one = 1;
   return *reinterpret_cast<const unsigned char*>(&one) == 1;
@@ -59,6 +62,12 @@ void ReadImage(png_structp png, png_infop info, ReadJob* job) {
   png_uint_32 width = 0, height = 0;
   int depth = 0, colour = 0;
   png_get_IHDR(png, info, &width, &height, &depth, &colour, nullptr, nullptr, nullptr);
+  // The image is allocated before its data is read: a header must not claim more pixels than
+  // the file's compressed data could hold (DEFLATE expands at most 1032:1), or a 60-byte file
+  // allocates gigabytes.
+  const double raw_bytes = static_cast<double>(height) * (static_cast<double>(png_get_rowbytes(png, info)) + 1);
+  if (raw_bytes > kMaxInflateRatio * static_cast<double>(job->bytes.size()) + 4096)
+    png_error(png, "the header claims more pixels than the file's data can hold");
   const bool has_colour = (colour & PNG_COLOR_MASK_COLOR) != 0;
   int channels = 1;
   if (job->pixels == PngPixels::kUnchanged) {
@@ -111,6 +120,9 @@ bool Read(ReadJob* job) {
     return false;
   }
   png_set_read_fn(png, job, ReadBytes);
+  // No chunk is larger than the file that holds it; decompressed text and profiles get room
+  // beyond that, but not the gigabytes a corrupt length or a zip bomb would claim.
+  png_set_chunk_malloc_max(png, std::max<png_alloc_size_t>(job->bytes.size(), 8u << 20));
   ReadImage(png, info, job);
   png_destroy_read_struct(&png, &info, nullptr);
   return true;
@@ -207,7 +219,9 @@ cv::Mat ReadPng(const std::string& path, PngPixels pixels) {
   // per frame, and fresh buffers of that size cost page faults on every one.
   thread_local std::vector<unsigned char> buffer;
   thread_local PngFastDecoder fast;
-  const std::span<const unsigned char> bytes(buffer.data(), ReadFile(path, &buffer));
+  // Read first: the read may grow (move) the buffer, and the span must see where it ends up.
+  const std::size_t size = ReadFile(path, &buffer);
+  const std::span<const unsigned char> bytes(buffer.data(), size);
   cv::Mat image;
   if (fast.Decode(bytes, pixels, &image) == PngFastResult::kDecoded) return image;
   return DecodePngWithLibpng(bytes, pixels, path);

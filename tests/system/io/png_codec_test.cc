@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <png.h>
+#include <zlib.h>
 
 #include <unistd.h>
 
@@ -124,6 +125,56 @@ TEST(PngCodec, ATruncatedOrForeignFileIsAnInputErrorNamingIt) {
       ADD_FAILURE() << path << " was decoded";
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// ReadPng keeps its file buffer between calls; a larger file grows (moves) it, and the bytes
+// decoded must be the new buffer's (a span taken before the read pointed at freed memory:
+// found by the png fuzzer under clang, whose argument order differs from gcc's).
+TEST(PngCodec, ALargerFileAfterASmallerOneDecodesItsOwnPixels) {
+  const fs::path dir = Scratch();
+  cv::Mat big(400, 600, CV_8UC1);
+  cv::theRNG().state = 11;
+  cv::randu(big, 0, 256);  // incompressible: the file is larger than the buffer's first block
+  const cv::Mat small = Random(CV_8UC1, 5);
+  const std::string small_path = (dir / "small.png").string(), big_path = (dir / "big.png").string();
+  ASSERT_TRUE(cv::imwrite(small_path, small));
+  ASSERT_TRUE(cv::imwrite(big_path, big));
+  ASSERT_GT(fs::file_size(big_path), 1u << 17);
+  for (const std::string& path : {small_path, big_path, small_path, big_path})
+    ExpectSame(ReadPng(path, PngPixels::kGrey8), cv::imread(path, cv::IMREAD_GRAYSCALE));
+  fs::remove_all(dir);
+}
+
+// The image is allocated before its data is read, so a header that claims more pixels than
+// the file's compressed data could ever hold is refused first (60 000 × 60 000 in 70 bytes).
+TEST(PngCodec, AHeaderClaimingMorePixelsThanItsDataCanHoldIsAnInputErrorNamingTheFile) {
+  auto chunk = [](const std::string& type, const std::string& data) {
+    std::string out;
+    for (int shift : {24, 16, 8, 0}) out += static_cast<char>((data.size() >> shift) & 0xff);
+    const std::string body = type + data;
+    out += body;
+    const uLong crc = crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()));
+    for (int shift : {24, 16, 8, 0}) out += static_cast<char>((crc >> shift) & 0xff);
+    return out;
+  };
+  const std::string size = std::string("\x00\x00\xea\x60", 4);  // 60 000
+  const std::string ihdr = size + size + std::string("\x08\x00\x00\x00\x00", 5);
+  const std::string idat = std::string("\x78\x9c\x63\x60\x00\x00\x00\x02\x00\x01", 10);
+  const std::string file = std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) +
+                           chunk("IDAT", idat) + chunk("IEND", "");
+  const fs::path dir = Scratch();
+  const std::string path = (dir / "huge_header.png").string();
+  std::ofstream(path, std::ios::binary) << file;
+  for (PngPixels pixels : {PngPixels::kGrey8, PngPixels::kUnchanged}) {
+    try {
+      ReadPng(path, pixels);
+      ADD_FAILURE() << "decoded";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("more pixels than"), std::string::npos) << e.what();
     }
   }
   fs::remove_all(dir);
