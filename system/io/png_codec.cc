@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
+#include <string>
 #include <memory>
 #include <stdexcept>
 
@@ -231,6 +233,18 @@ cv::Mat DecodePngWithLibpng(std::span<const unsigned char> bytes, PngPixels pixe
                             const std::string& name) {
   if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0)
     throw InputError(name, "cannot decode the image: not a PNG file");
+  // libpng allocates a chunk's claimed length before reading it (2 GB for a corrupt text
+  // chunk's length, whatever png_set_chunk_malloc_max says): no chunk may run past the file.
+  for (std::size_t at = 8; bytes.size() - at >= 8;) {
+    const std::uint64_t length = (std::uint64_t{bytes[at]} << 24) | (std::uint64_t{bytes[at + 1]} << 16) |
+                                 (std::uint64_t{bytes[at + 2]} << 8) | bytes[at + 3];
+    if (length + 12 > bytes.size() - at)
+      throw InputError(name, "cannot decode the image (corrupt PNG: the chunk at byte " +
+                                 std::to_string(at) + " claims " + std::to_string(length) +
+                                 " bytes, past the end of the file)");
+    if (std::memcmp(&bytes[at + 4], "IEND", 4) == 0) break;
+    at += 12 + length;
+  }
   ReadJob job;
   job.pixels = pixels;
   job.bytes = bytes;

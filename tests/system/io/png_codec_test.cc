@@ -180,5 +180,23 @@ TEST(PngCodec, AHeaderClaimingMorePixelsThanItsDataCanHoldIsAnInputErrorNamingTh
   fs::remove_all(dir);
 }
 
+// libpng allocates a chunk's claimed length before reading it: a 51-byte file whose text chunk
+// claims 2 GB (found by the png fuzzer) is refused by its chunk lengths first.
+TEST(PngCodec, AChunkClaimingMoreBytesThanTheFileHoldsIsAnInputErrorNamingIt) {
+  const fs::path dir = Scratch();
+  const std::string path = (dir / "long_text.png").string();
+  const std::string file = std::string("\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x00\x02\x00\x00\x00\x02"
+                                       "\x10\x06\x00\x00\x00\x22\x26\xd1\x67\x7a\x00\x00\x03tEXtk\x00vK\x04\xf3\x90\x82", 51);
+  std::ofstream(path, std::ios::binary) << file;
+  try {
+    ReadPng(path, PngPixels::kUnchanged);
+    ADD_FAILURE() << "decoded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("past the end of the file"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace cslam
