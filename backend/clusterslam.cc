@@ -10,6 +10,7 @@
 #include "backend/bundle_adjustment.h"
 #include "backend/covariance_floor.h"
 #include "backend/labelling.h"
+#include "backend/place_split.h"
 #include "backend/point_tracks.h"
 #include "core/errors.h"
 #include "core/logging.h"
@@ -217,6 +218,9 @@ void JudgeFinalClusters(const PointTracks& raw, const ModelAssignmentOptions& op
     GetLogger("backend")->info("clusterslam: {} moving cluster(s) dissolved by the final check "
                                "(the static world explains them, or too few of their landmarks "
                                "fit their motion)", removed);
+  if (const int added = SplitClustersByPlace(options.split_gap_m, options.min_outlier_cluster, estimate))
+    GetLogger("backend")->info("clusterslam: {} moving cluster(s) split off by place (groups of "
+                               "landmarks over {:.1f} m apart)", added, options.split_gap_m);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "backend/place_split.h"
 #include "core/logging.h"
 
 namespace cslam {
@@ -13,6 +14,8 @@ namespace cslam {
 void ModelAssignmentOptions::Check() const {
   CheckOption(std::isfinite(fit_threshold) && fit_threshold > 0, "fit_threshold",
               "must be a reduced chi-square > 0", fit_threshold);
+  CheckOption(std::isfinite(split_gap_m) && split_gap_m >= 0, "split_gap_m",
+              "must be >= 0 m (0 = off)", split_gap_m);
   CheckOption(std::isfinite(static_margin) && static_margin >= 0, "static_margin",
               "must be >= 0", static_margin);
   CheckOption(min_coverage > 0 && min_coverage <= 1, "min_coverage",
@@ -52,6 +55,8 @@ void ModelAssignmentOptions::Load(OptionsReader& reader) {
   reader.Read("enabled", &enabled);
   reader.Read("fit_threshold", &fit_threshold);
   reader.Read("static_margin", &static_margin);
+  reader.Read("favour_own_label", &favour_own_label);
+  reader.Read("split_gap_m", &split_gap_m);
   reader.Read("min_coverage", &min_coverage);
   reader.Read("merge_fraction", &merge_fraction);
   reader.Read("merge_ratio", &merge_ratio);
@@ -176,6 +181,27 @@ std::vector<Eigen::Matrix3d> Informations(const PointTrack& track) {
   info.reserve(track.samples.size());
   for (const PointSample& s : track.samples) info.push_back(s.cov.inverse());
   return info;
+}
+
+// Whether moving clusters p and q of `estimate` lie more than gap_m apart at the first frame
+// both have a pose at (their landmarks mapped into the world there); false without one.
+bool ApartInTheWorld(const MotionEstimate& estimate, int p, int q, double gap_m) {
+  const ClusterMotion* a = estimate.FindCluster(p);
+  const ClusterMotion* b = estimate.FindCluster(q);
+  if (!a || !b) return false;
+  for (size_t i = 0, j = 0; i < a->frames.size() && j < b->frames.size();) {
+    if (a->frames[i] < b->frames[j]) { ++i; continue; }
+    if (b->frames[j] < a->frames[i]) { ++j; continue; }
+    std::vector<Eigen::Vector3d> pa, pb;
+    const size_t n = std::min(estimate.landmark_cluster.size(), estimate.landmark_in_cluster.size());
+    for (size_t l = 0; l < n; ++l) {
+      if (!estimate.landmark_in_cluster[l].allFinite()) continue;
+      if (estimate.landmark_cluster[l] == p) pa.push_back(a->world_from_cluster[i] * estimate.landmark_in_cluster[l]);
+      if (estimate.landmark_cluster[l] == q) pb.push_back(b->world_from_cluster[j] * estimate.landmark_in_cluster[l]);
+    }
+    return !pa.empty() && !pb.empty() && SeparatedByGap(pa, pb, gap_m);
+  }
+  return false;
 }
 
 }  // namespace
@@ -390,7 +416,8 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
     for (int m = 0; m < num_models; ++m) {
       const double c = cost_at(l, m);
       if (c < 0 || dissolved[m]) continue;
-      const double score = c + (models[m].label != 0 ? options.static_margin : 0.0);
+      const int favoured = options.favour_own_label && label >= 0 ? label : 0;
+      const double score = c + (models[m].label != favoured ? options.static_margin : 0.0);
       if (score < best_score) best_score = score, best = models[m].label, best_cost = c;
       if (label < 0) continue;
       Under& u = models[m].label == label ? own[label] : other[label][models[m].label];
@@ -433,6 +460,8 @@ ModelAssignment AssignToMotionModels(const PointTracks& tracks, const std::vecto
     for (const auto& [q, u] : other[p]) {
       if (members[q] < n || (members[q] == n && q > p)) continue;
       if (u.covered < options.merge_fraction * n || u.fits < options.merge_fraction * u.covered)
+        continue;
+      if (q != 0 && options.split_gap_m > 0 && ApartInTheWorld(estimate, p, q, options.split_gap_m))
         continue;
       const double mean = u.sum / u.covered;
       if (mean > std::max(options.merge_ratio * own_mean, own_mean + options.merge_slack)) continue;

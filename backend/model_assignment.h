@@ -46,7 +46,18 @@ namespace cslam {
 struct ModelAssignmentOptions {
   bool enabled = true;          ///< false: the paper's loop (re-cluster with Eq. 1 every iteration)
   double fit_threshold = 3.0;   ///< a landmark whose best cost exceeds this is an outlier
-  double static_margin = 0.3;   ///< added to every moving cluster's cost: ties go to static
+  double static_margin = 0.3;   ///< added to every other model's cost than the favoured one
+  /// [ours] The margin favours a labelled landmark's own model (ties keep the label) instead
+  /// of the static world; unlabelled landmarks' ties still go to static. false: the static
+  /// world is favoured for every landmark.
+  bool favour_own_label = false;
+  /// [ours] A moving cluster whose landmarks form groups more than this far apart (in its own
+  /// frame, nothing between them) is split into one cluster per group after the final check
+  /// (backend/place_split.h), and two moving clusters so far apart are not merged, here or in
+  /// the map: a road vehicle's visible points leave no 4 m stretch empty, while cars one behind
+  /// the other, or two crossing, share one motion within the depth noise beyond ~30 m and are
+  /// metres apart (docs/experiments/2026-12-07-far-cars-labelled-static-online.md). 0 = off.
+  double split_gap_m = 4.0;
   double min_coverage = 0.8;    ///< a model must have a pose at this fraction of the track's frames
   double merge_fraction = 0.9;  ///< merge p into q when this fraction of p's landmarks is
                                 ///< covered by q and fits it (cost <= fit_threshold), and

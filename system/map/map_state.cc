@@ -1,9 +1,12 @@
 #include "system/map/map_state.h"
 
+#include "backend/place_split.h"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
 
+#include "backend/place_split.h"
 #include "core/errors.h"
 #include "core/logging.h"
 #include "system/map/co_location.h"
@@ -723,6 +726,12 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
                            agreement.relative_rms() <= options_.motion_tolerance;
         if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, recent, points)))
           continue;
+        // One motion, but two places with nothing between: cars one behind the other.
+        if (older >= 1 && options_.split_gap_m > 0) {
+          std::vector<Eigen::Vector3d> moved;
+          for (const Eigen::Vector3d& x : points) moved.push_back(agreement.a_from_b * x);
+          if (SeparatedByGap(PointsOf(older_ids), moved, options_.split_gap_m)) continue;
+        }
         GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m, {})",
                                    younger, older, agreement.frames, agreement.rms_m,
                                    rigid ? "one rigid motion" : "in one place");

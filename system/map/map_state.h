@@ -115,6 +115,9 @@ struct MapStateOptions {
   /// The reported objects' body frames and smoothed tracks at the end of the run
   /// (system/map/object_tracks.h; YAML section `map.track`).
   ObjectTrackOptions track;
+  /// Two moving clusters whose landmarks lie more than this far apart are not merged (the
+  /// backend's backend.assignment.split_gap_m, which the pipeline copies here; not a setting).
+  double split_gap_m = 0;
   /// Time between frames; the pipeline sets it from the input's timestamps (not a setting).
   double frame_period_s = 0.1;
   void Check() const;

@@ -615,6 +615,7 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   PipelineResult out;
   PipelineOptions options = given;
   if (const auto period = MedianFramePeriod(input.timestamps)) options.map.frame_period_s = *period;
+  options.map.split_gap_m = options.backend.assignment.split_gap_m;
   BundleAdjustmentOptions& ba = options.backend.motion.bundle_adjustment;
   // Threaded online runs keep a CPU for each window; its helpers run on the others. Shared,
   // since the pool (and its hook) lives in the options.

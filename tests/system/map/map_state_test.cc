@@ -204,6 +204,31 @@ TEST(MapState, AnObjectSplitIntoTwoMapClustersIsMergedUnderTheOlderId) {
   }
 }
 
+// A second car driving exactly as object 1 does, 12 m from it: one motion, two places with
+// nothing between them. The motion test alone merges them; the place keeps them apart.
+TEST(MapState, TwoBodiesOfOneMotionMetresApartAreNotMerged) {
+  const World w = MakeWorld(40);
+  for (double gap : {0.0, 4.0}) {
+    MapStateOptions o;
+    o.split_gap_m = gap;
+    MapState map(o);
+    map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+    MotionEstimate e = PerfectWindow(w, {5, 35}, {{1, 2}, {2, 1}});
+    const std::vector<int> fresh = Reidentify(w, 1, &e);
+    for (int l : fresh) e.landmark_in_cluster[l] += Eigen::Vector3d(12, 0, 0);
+    const WindowIntegration info = map.Integrate(e);
+    if (gap == 0) {
+      EXPECT_EQ(info.merged.size(), 1u);
+      EXPECT_EQ(map.ClusterOf(fresh[0]), 1);
+    } else {
+      EXPECT_TRUE(info.merged.empty());
+      EXPECT_NE(map.ClusterOf(fresh[0]), 1);
+      EXPECT_GE(map.ClusterOf(fresh[0]), 1);
+      ExpectFollows(w, map, 1, 1);
+    }
+  }
+}
+
 // Object 1 comes back as a window cluster of only `kept` new landmarks, its motion perfect.
 struct Fragment {
   MapState map;
