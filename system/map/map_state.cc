@@ -1,7 +1,5 @@
 #include "system/map/map_state.h"
 
-#include "backend/place_split.h"
-
 #include <algorithm>
 #include <cmath>
 #include <set>

@@ -180,13 +180,15 @@ TEST(PngCodec, AHeaderClaimingMorePixelsThanItsDataCanHoldIsAnInputErrorNamingTh
   fs::remove_all(dir);
 }
 
-// libpng allocates a chunk's claimed length before reading it: a 51-byte file whose text chunk
-// claims 2 GB (found by the png fuzzer) is refused by its chunk lengths first.
+// libpng allocates a chunk's claimed length before reading it: a 49-byte file whose text chunk
+// claims 2 GB (as the png fuzzer's reproducer does) is refused by its chunk lengths first.
 TEST(PngCodec, AChunkClaimingMoreBytesThanTheFileHoldsIsAnInputErrorNamingIt) {
   const fs::path dir = Scratch();
   const std::string path = (dir / "long_text.png").string();
-  const std::string file = std::string("\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x00\x02\x00\x00\x00\x02"
-                                       "\x10\x06\x00\x00\x00\x22\x26\xd1\x67\x7a\x00\x00\x03tEXtk\x00vK\x04\xf3\x90\x82", 51);
+  static constexpr char kBytes[] =
+      "\x89PNG\r\n\x1a\n\x00\x00\x00\x0dIHDR\x00\x00\x00\x02\x00\x00\x00\x02"
+      "\x10\x06\x00\x00\x00\x22\x26\xd1\x67\x7a\x00\x00\x03tEXtk\x00vK\x04\xf3\x90\x82";
+  const std::string file(kBytes, sizeof(kBytes) - 1);  // the literal's own length, NULs included
   std::ofstream(path, std::ios::binary) << file;
   try {
     ReadPng(path, PngPixels::kUnchanged);
