@@ -50,9 +50,6 @@ void ReadBytes(png_structp png, png_bytep data, png_size_t size) {
   job->read += size;
 }
 
-// DEFLATE's largest expansion (a stream of maximal-length matches).
-constexpr double kMaxInflateRatio = 1032.0;
-
 bool LittleEndian() {
   const unsigned short one = 1;
   return *reinterpret_cast<const unsigned char*>(&one) == 1;
@@ -68,7 +65,8 @@ void ReadImage(png_structp png, png_infop info, ReadJob* job) {
   // the file's compressed data could hold (DEFLATE expands at most 1032:1), or a 60-byte file
   // allocates gigabytes.
   const double raw_bytes = static_cast<double>(height) * (static_cast<double>(png_get_rowbytes(png, info)) + 1);
-  if (raw_bytes > kMaxInflateRatio * static_cast<double>(job->bytes.size()) + 4096)
+  const double max_bytes = static_cast<double>(kPngMaxInflateRatio) * static_cast<double>(job->bytes.size());
+  if (raw_bytes > max_bytes + 4096)
     png_error(png, "the header claims more pixels than the file's data can hold");
   const bool has_colour = (colour & PNG_COLOR_MASK_COLOR) != 0;
   int channels = 1;
@@ -236,8 +234,7 @@ cv::Mat DecodePngWithLibpng(std::span<const unsigned char> bytes, PngPixels pixe
   // libpng allocates a chunk's claimed length before reading it (2 GB for a corrupt text
   // chunk's length, whatever png_set_chunk_malloc_max says): no chunk may run past the file.
   for (std::size_t at = 8; bytes.size() - at >= 8;) {
-    const std::uint64_t length = (std::uint64_t{bytes[at]} << 24) | (std::uint64_t{bytes[at + 1]} << 16) |
-                                 (std::uint64_t{bytes[at + 2]} << 8) | bytes[at + 3];
+    const std::uint64_t length = PngBigEndian32(&bytes[at]);
     if (length + 12 > bytes.size() - at)
       throw InputError(name, "cannot decode the image (corrupt PNG: the chunk at byte " +
                                  std::to_string(at) + " claims " + std::to_string(length) +

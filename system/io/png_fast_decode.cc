@@ -30,15 +30,6 @@ constexpr std::uint32_t ChunkName(const char (&name)[5]) {
 constexpr std::uint32_t kMaxDimension = 1000000;
 // A chunk length above 2^31 - 1 is invalid (PNG spec 5.3).
 constexpr std::uint32_t kMaxChunkLength = 0x7fffffffu;
-// DEFLATE turns at most two bits into 258 bytes (a longest match with one-bit codes): a header
-// claiming more pixels than 1032 times the compressed size is damaged or hostile, and refused
-// before its buffer is allocated.
-constexpr std::size_t kMaxInflateRatio = 1032;
-
-std::uint32_t BigEndian32(const unsigned char* p) {
-  return static_cast<std::uint32_t>(p[0]) << 24 | static_cast<std::uint32_t>(p[1]) << 16 |
-         static_cast<std::uint32_t>(p[2]) << 8 | static_cast<std::uint32_t>(p[3]);
-}
 
 // Chunks libpng reads without ever changing the pixels it returns: text, time, pixel size.
 // Any other ancillary chunk (tRNS, gAMA, sRGB, iCCP, sBIT, bKGD, ...) sends the file to libpng,
@@ -167,8 +158,8 @@ struct Header {
 
 // The IHDR fields, when the layout and the request are ones this decoder handles.
 PngFastResult ReadHeader(const unsigned char* data, PngPixels pixels, Header* header) {
-  header->width = BigEndian32(data);
-  header->height = BigEndian32(data + 4);
+  header->width = PngBigEndian32(data);
+  header->height = PngBigEndian32(data + 4);
   header->depth = data[8];
   header->colour = data[9];
   const int compression = data[10], filter = data[11], interlace = data[12];
@@ -193,6 +184,11 @@ PngFastResult ReadHeader(const unsigned char* data, PngPixels pixels, Header* he
 
 }  // namespace
 
+std::uint32_t PngBigEndian32(const unsigned char* p) {
+  return static_cast<std::uint32_t>(p[0]) << 24 | static_cast<std::uint32_t>(p[1]) << 16 |
+         static_cast<std::uint32_t>(p[2]) << 8 | static_cast<std::uint32_t>(p[3]);
+}
+
 PngFastDecoder::PngFastDecoder() : inflater_(libdeflate_alloc_decompressor()) {
   if (!inflater_) throw std::bad_alloc();
 }
@@ -212,14 +208,14 @@ PngFastResult PngFastDecoder::Decode(std::span<const unsigned char> bytes, PngPi
   idat_.clear();
   for (std::size_t at = sizeof(kSignature);;) {
     if (bytes.size() - at < 12) return PngFastResult::kCorrupt;  // no IEND
-    const std::uint32_t length = BigEndian32(&bytes[at]);
+    const std::uint32_t length = PngBigEndian32(&bytes[at]);
     if (length > kMaxChunkLength || length > bytes.size() - at - 12) return PngFastResult::kCorrupt;
     const unsigned char* name_and_data = &bytes[at + 4];
     const unsigned char* data = name_and_data + 4;
-    if (libdeflate_crc32(0, name_and_data, length + 4) != BigEndian32(data + length))
+    if (libdeflate_crc32(0, name_and_data, length + 4) != PngBigEndian32(data + length))
       return PngFastResult::kCorrupt;
     at += 12 + std::size_t{length};
-    const std::uint32_t name = BigEndian32(name_and_data);
+    const std::uint32_t name = PngBigEndian32(name_and_data);
     if (!have_header) {
       if (name != ChunkName("IHDR") || length != 13) return PngFastResult::kCorrupt;
       const PngFastResult layout = ReadHeader(data, pixels, &header);
@@ -252,7 +248,7 @@ PngFastResult PngFastDecoder::Decode(std::span<const unsigned char> bytes, PngPi
   const std::size_t row_bytes = header.width * bpp;
   const std::size_t stride = row_bytes + 1;
   const std::size_t inflated_size = header.height * stride;
-  if (inflated_size / kMaxInflateRatio > stream.size()) return PngFastResult::kCorrupt;
+  if (inflated_size / kPngMaxInflateRatio > stream.size()) return PngFastResult::kCorrupt;
   filtered_.resize(inflated_size);
   std::size_t consumed = 0;
   if (libdeflate_zlib_decompress_ex(inflater_, stream.data(), stream.size(), filtered_.data(),

@@ -10,6 +10,7 @@
 // libpng's leniency, e.g. towards a bad CRC on an ancillary chunk) is the same as before.
 #include <opencv2/core.hpp>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,14 @@
 struct libdeflate_decompressor;
 
 namespace cslam {
+
+/// DEFLATE turns at most two bits into 258 bytes (a longest match with one-bit codes): a header
+/// claiming more pixels than this many times the compressed size is damaged or hostile, and is
+/// refused before its buffer is allocated (by this decoder and by png_codec's libpng path).
+inline constexpr std::size_t kPngMaxInflateRatio = 1032;
+
+/// The big-endian 32-bit integer at `p` (PNG's chunk lengths, CRCs and header fields).
+std::uint32_t PngBigEndian32(const unsigned char* p);
 
 /// What PngFastDecoder::Decode did with a file.
 enum class PngFastResult {
