@@ -673,6 +673,54 @@ std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
   return merged;
 }
 
+std::vector<std::pair<int, int>> MapState::MergeReappearedClusters(const ReappearanceGate& gate) {
+  std::vector<std::pair<int, int>> merged;
+  if (!(gate.max_gap_s > 0)) return merged;
+  for (bool again = true; again;) {
+    again = false;
+    // Retired landmarks too: a piece may have ended long ago.
+    std::map<int, std::vector<Eigen::Vector3d>> points;
+    for (int l : Landmarks())
+      if (const int c = ClusterOf(l); c >= 1 && clusters_.count(c))
+        points[c].push_back(*PositionInCluster(l));
+    // Each later piece joins the earlier one its start is best explained by; a piece that two
+    // earlier bodies could both have become is left alone, since a wrong join corrupts a
+    // trajectory where a missed one costs an id.
+    for (const auto& [b, b_points] : points) {
+      // As in the place test: fewer than 3 points do not fix a body's place.
+      if (b_points.size() < 3) continue;
+      const MapCluster& bc = clusters_.at(b);
+      std::optional<std::pair<int, Reappearance>> best;
+      int reachable = 0;
+      for (const auto& [a, a_points] : points) {
+        if (a == b || a_points.size() < 3) continue;
+        const MapCluster& ac = clusters_.at(a);
+        if (!WithinGap(ac.world_from_cluster, bc.world_from_cluster, gate)) continue;
+        const Reappearance r = CompareAcrossGap(ac.world_from_cluster, a_points,
+                                                bc.world_from_cluster, b_points, gate);
+        GetLogger("system")->debug(
+            "object {} as {} back after {} frames: {:.2f} m from where it was carried ({:.2f} "
+            "reachable, {:.2f} uncertainty), speed changed by {:.1f} m/s ({:.1f} possible, "
+            "{:.1f} uncertainty){}",
+            a, b, r.gap_frames, r.distance_m, r.allowed_m, r.uncertainty_m, r.speed_change_mps,
+            r.allowed_speed_change_mps, r.uncertainty_mps, r.Reachable() ? ": reachable" : "");
+        if (!r.Reachable()) continue;
+        ++reachable;
+        if (!best || r.Score() < best->second.Score()) best.emplace(a, r);
+      }
+      if (reachable != 1) continue;
+      const auto& [a, r] = *best;
+      GetLogger("system")->debug("object {} merged into {} at the end: back after {} frames", b,
+                                 a, r.gap_frames);
+      MergeInto(a, b, r.a_from_b);
+      merged.emplace_back(a, b);
+      again = true;
+      break;
+    }
+  }
+  return merged;
+}
+
 void MapState::MergeAgreeingClusters(WindowIntegration* info) {
   ReappearanceGate gate;
   gate.frame_period_s = options_.frame_period_s;
@@ -715,6 +763,13 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
           if (older >= 1 && WithinGap(o->second.world_from_cluster, whole, gate)) {
             const Reappearance r = CompareAcrossGap(o->second.world_from_cluster,
                                                     PointsOf(older_ids), whole, points, gate);
+            if (r.compared > 0 && !r.Reachable())
+              GetLogger("system")->debug(
+                  "map cluster {} not back as {}: {:.2f} m from where it was carried ({:.2f} "
+                  "reachable, {:.2f} uncertainty), speed changed by {:.1f} m/s ({:.1f} possible, "
+                  "{:.1f} uncertainty)",
+                  older, younger, r.distance_m, r.allowed_m, r.uncertainty_m, r.speed_change_mps,
+                  r.allowed_speed_change_mps, r.uncertainty_mps);
             if (r.Reachable() && (!reappeared || r.Score() < reappeared->second.Score()))
               reappeared.emplace(older, r);
           }

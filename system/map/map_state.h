@@ -17,6 +17,7 @@
 #include "core/rigid.h"
 #include "system/map/object_observations.h"
 #include "system/map/object_track_options.h"
+#include "system/map/reappearance.h"
 
 namespace cslam {
 
@@ -216,6 +217,12 @@ class MapState {
   /// the (surviving, merged) pairs. For the end of a run: the windows judged the place test on
   /// their own poses, far noisier than the object tracks' (system/map/object_tracks.h).
   std::vector<std::pair<int, int>> MergeCoLocatedClusters();
+  /// Merges each moving cluster that starts after another ended, within gate.max_gap_s, into
+  /// it when it lies where that body could have got to (system/map/reappearance.h) and no
+  /// other body could have; returns the (surviving, merged) pairs. For the end of a run, on the
+  /// object tracks' poses: a window's piece of a far car that the next windows found as a new
+  /// cluster a few frames later.
+  std::vector<std::pair<int, int>> MergeReappearedClusters(const ReappearanceGate& gate);
   /// Integrated windows whose frames overlap [first, last].
   int WindowsCovering(int first, int last) const;
   /// Frames where consecutive windows did not overlap (the trajectory was chained blindly).

@@ -18,6 +18,13 @@ struct ObjectTrackOptions {
   /// test on poses metres off for a far car, so a car handed from one window cluster to the
   /// next within a frame or two could stay two objects.
   bool merge_co_located = true;
+  /// ... and each object that starts at most this long after another ended is joined to it
+  /// when it lies where that body, carried on at constant velocity with at most
+  /// join_max_acceleration_mps2, could have got to and no other body could have
+  /// (system/map/reappearance.h, on the tracks' poses): a far car that the windows lost for a
+  /// few frames and found again as a new cluster is one object. 0 = off.
+  double join_max_gap_s = 0.5;
+  double join_max_acceleration_mps2 = 3.0;
   /// Standard deviation of a keypoint (px) in the landmarks' measurement covariance.
   double pixel_sigma = 1.0;
   TrackSmootherOptions smoother;

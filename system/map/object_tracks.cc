@@ -440,13 +440,21 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
   std::vector<int> ids;
   for (const auto& [id, c] : map->clusters()) ids.push_back(id);
   TrackObjects(ids, map, table, camera, timestamps, frame_period_s, options, runner, &tracks);
-  if (!options.smooth || !options.merge_co_located) return tracks;
+  if (!options.smooth) return tracks;
   std::set<int> again;
-  for (const auto& [kept, gone] : map->MergeCoLocatedClusters()) {
-    again.erase(gone);
-    tracks.erase(gone);
-    again.insert(kept);
-  }
+  const auto retrack = [&](const std::vector<std::pair<int, int>>& merged) {
+    for (const auto& [kept, gone] : merged) {
+      again.erase(gone);
+      tracks.erase(gone);
+      again.insert(kept);
+    }
+  };
+  if (options.merge_co_located) retrack(map->MergeCoLocatedClusters());
+  ReappearanceGate gate;
+  gate.frame_period_s = frame_period_s;
+  gate.max_gap_s = options.join_max_gap_s;
+  gate.max_acceleration_mps2 = options.join_max_acceleration_mps2;
+  retrack(map->MergeReappearedClusters(gate));
   if (again.empty()) return tracks;
   for (int id : again) tracks.erase(id);
   TrackObjects({again.begin(), again.end()}, map, table, camera, timestamps, frame_period_s,

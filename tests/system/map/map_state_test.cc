@@ -525,6 +525,64 @@ TEST(MapState, AnObjectBackFromBehindAnOccluderIsANewOneWhenReappearanceIsOff) {
   EXPECT_EQ(map.ClusterOf(fresh[0]), 3);
 }
 
+// Object 1's tracks all end at frame 29 and the next window, 25..54, finds it on new tracks
+// from frame 33 on (a far car the windows lost for a few frames): no frame shared, so only the
+// end-of-run join across the gap makes it one object again.
+MapState AfterAFourFrameGap(std::vector<int>* fresh) {
+  const World w = MakeWorld(55);
+  MapState map;
+  map.Integrate(PerfectWindow(w, {0, 30}, {{1, 1}, {2, 2}}));
+  MotionEstimate back = PerfectWindow(w, {25, 55}, {{1, 1}, {2, 2}});
+  *fresh = Reidentify(w, 1, &back);
+  ClusterMotion& m = back.clusters[0];
+  const size_t lost = 33 - 25;
+  m.frames.erase(m.frames.begin(), m.frames.begin() + lost);
+  m.world_from_cluster.erase(m.world_from_cluster.begin(), m.world_from_cluster.begin() + lost);
+  m.cam_from_cluster.erase(m.cam_from_cluster.begin(), m.cam_from_cluster.begin() + lost);
+  map.Integrate(back);
+  return map;
+}
+
+ReappearanceGate JoinGate(double max_gap_s) {
+  ReappearanceGate gate;
+  gate.frame_period_s = 0.1;
+  gate.max_gap_s = max_gap_s;
+  return gate;
+}
+
+TEST(MapState, APieceBackAfterAFewFramesIsJoinedToItsBodyAtTheEnd) {
+  const World w = MakeWorld(55);
+  std::vector<int> fresh;
+  MapState map = AfterAFourFrameGap(&fresh);
+  ASSERT_EQ(map.clusters().size(), 3u);
+  const int piece = map.ClusterOf(fresh[0]);
+  ASSERT_NE(piece, 1);
+  const std::vector<std::pair<int, int>> merged = map.MergeReappearedClusters(JoinGate(0.5));
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0], (std::pair<int, int>{1, piece}));
+  ASSERT_EQ(map.clusters().size(), 2u);
+  for (int l : fresh) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  EXPECT_EQ(map.ClusterOf(45), 2);  // object 2 is elsewhere all along
+  const MapCluster& c = map.clusters().at(1);
+  EXPECT_EQ(c.world_from_cluster.begin()->first, 0);
+  EXPECT_EQ(c.world_from_cluster.rbegin()->first, 54);
+  EXPECT_EQ(c.world_from_cluster.count(31), 0u);  // nothing is made up for the gap
+  for (int l : fresh) {  // the piece's points land where the body carries them
+    const int original = static_cast<int>(l - w.label.size() + 30);
+    const auto p = map.WorldPosition(l, 50);
+    ASSERT_TRUE(p.has_value());
+    EXPECT_LT((*p - w.world_from_object[0][50] * w.p_in_object[original]).norm(), 1e-6) << l;
+  }
+}
+
+TEST(MapState, APieceBackAfterALongerGapThanTheJoinBridgesStaysApart) {
+  std::vector<int> fresh;
+  MapState map = AfterAFourFrameGap(&fresh);
+  EXPECT_TRUE(map.MergeReappearedClusters(JoinGate(0.3)).empty());
+  EXPECT_TRUE(map.MergeReappearedClusters(JoinGate(0)).empty());
+  EXPECT_EQ(map.clusters().size(), 3u);
+}
+
 TEST(MapState, OptionsRejectANegativeReappearanceGapOrAcceleration) {
   MapStateOptions o;
   o.reappearance_max_gap_s = -1;

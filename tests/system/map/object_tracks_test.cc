@@ -190,5 +190,16 @@ TEST(ObjectTracks, TheMapKeepsTheMovingLandmarksKeypointsOnceEachAndDropsThoseOf
   EXPECT_EQ(kept.num_observations(), 0u);
 }
 
+TEST(ObjectTracks, OptionsRejectANegativeJoinGapOrAcceleration) {
+  ObjectTrackOptions o;
+  EXPECT_NO_THROW(o.Check());
+  o.join_max_gap_s = -0.1;
+  EXPECT_THROW(o.Check(), ConfigError);
+  o.join_max_gap_s = 0;  // off
+  EXPECT_NO_THROW(o.Check());
+  o.join_max_acceleration_mps2 = -1;
+  EXPECT_THROW(o.Check(), ConfigError);
+}
+
 }  // namespace
 }  // namespace cslam
