@@ -650,18 +650,31 @@ std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
         const MapCluster& o = clusters_.at(older);
         const CoLocation loc =
             CompareLocations(o.world_from_cluster, older_points, y.world_from_cluster, younger_points);
-        // Pairs that shared motion_min_frames frames were judged by the windows' motion test
-        // as well, on many frames, and kept apart: two bodies close together, or clusters that
-        // each hold parts of two. What the end can judge better is a hand-over: too few shared
-        // frames for the motion test, and the place test on poses metres off.
-        if (loc.frames < options_.co_location_min_frames || loc.frames >= options_.motion_min_frames ||
-            loc.median_ratio > options_.co_location_ratio)
-          continue;
+        if (loc.frames < options_.co_location_min_frames) continue;
         const MotionAgreement offset =
             CompareMotions(o.world_from_cluster, y.world_from_cluster, younger_points, world_from_cam_);
+        if (loc.frames >= options_.motion_min_frames) {
+          // Pairs that share motion_min_frames frames were judged by the windows' motion test,
+          // on their noisy poses, and kept apart: two bodies close together, clusters that each
+          // hold parts of two, or a far car's pieces. The tracks can tell the last: one rigid
+          // motion to the motion test's tolerance, and not metres apart (the map's own merge
+          // rule, step 3). Clusters that each hold parts of two cars do not move rigidly.
+          if (offset.frames < options_.motion_min_frames ||
+              offset.relative_rms() > options_.motion_tolerance)
+            continue;
+          std::vector<Eigen::Vector3d> moved;
+          for (const Eigen::Vector3d& x : younger_points) moved.push_back(offset.a_from_b * x);
+          if (options_.split_gap_m > 0 ? SeparatedByGap(older_points, moved, options_.split_gap_m)
+                                       : loc.median_ratio > options_.co_location_ratio)
+            continue;
+        } else if (loc.median_ratio > options_.co_location_ratio) {
+          // A hand-over: too few shared frames for the motion test, and the windows judged
+          // the place test on poses metres off.
+          continue;
+        }
         GetLogger("system")->debug("object {} merged into {} at the end: {} shared frames, centres "
-                                   "{:.2f} of the smaller extent apart",
-                                   younger, older, loc.frames, loc.median_ratio);
+                                   "{:.2f} of the smaller extent apart, motions {:.4f} apart",
+                                   younger, older, loc.frames, loc.median_ratio, offset.relative_rms());
         MergeInto(older, younger, offset.a_from_b);
         merged.emplace_back(older, younger);
         again = true;

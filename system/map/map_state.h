@@ -211,11 +211,13 @@ class MapState {
     object_observations_.Keep(window_table, ids, *this);
   }
   const ObjectObservations& object_observations() const { return object_observations_; }
-  /// Merges moving clusters that occupy one place (co_location_ratio, co_location_min_frames)
-  /// as their trajectories now stand, over fewer shared frames than motion_min_frames (a
-  /// hand-over from one cluster to the next), live and retired landmarks alike, oldest first; returns
-  /// the (surviving, merged) pairs. For the end of a run: the windows judged the place test on
-  /// their own poses, far noisier than the object tracks' (system/map/object_tracks.h).
+  /// Merges moving clusters as their trajectories now stand, live and retired landmarks alike,
+  /// oldest first: over fewer shared frames than motion_min_frames, those that occupy one place
+  /// (co_location_ratio, co_location_min_frames: a hand-over from one cluster to the next); over
+  /// more, those that move as one rigid body (motion_tolerance) and are not split_gap_m apart
+  /// (a far car's pieces). Returns the (surviving, merged) pairs. For the end of a run: the
+  /// windows judged both tests on their own poses, far noisier than the object tracks'
+  /// (system/map/object_tracks.h).
   std::vector<std::pair<int, int>> MergeCoLocatedClusters();
   /// Merges each moving cluster that starts after another ended, within gate.max_gap_s, into
   /// it when it lies where that body could have got to (system/map/reappearance.h) and no

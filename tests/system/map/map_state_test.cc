@@ -409,6 +409,29 @@ TEST(MapState, TwoPartsOfOneBodyThatIsNotRigidAreMergedBecauseTheyShareOnePlace)
   ExpectFollows(w, map, 1, 1);
 }
 
+// The windows put half of object 1's points in a cluster of their own, placed metres off and
+// swinging (a far car's pieces on the windows' poses): neither one motion nor one place, so the
+// map keeps them apart over all 30 shared frames. Once the end of the run has tracked the piece
+// where its points are, the two move as one rigid body and are merged; left swinging, not.
+TEST(MapState, PiecesSharingManyFramesAreMergedAtTheEndOnceTheirTracksMoveAsOne) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(SwingingWindow(w, {0, 30}, 6.0));
+  ASSERT_EQ(map.clusters().size(), 3u);
+  const int piece = map.ClusterOf(31);
+  ASSERT_NE(piece, map.ClusterOf(30));
+  ASSERT_EQ(map.ClusterOf(30), 1);
+  EXPECT_TRUE(map.MergeCoLocatedClusters().empty());  // swinging: not one rigid motion
+
+  map.SetTrajectory(piece, map.clusters().at(1).world_from_cluster);  // tracked: rigid
+  const std::vector<std::pair<int, int>> merged = map.MergeCoLocatedClusters();
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0], (std::pair<int, int>{1, piece}));
+  for (int l = 30; l < 45; ++l) EXPECT_EQ(map.ClusterOf(l), 1) << l;
+  EXPECT_EQ(map.ClusterOf(45), 2);  // object 2 moves otherwise
+  ExpectFollows(w, map, 1, 1);
+}
+
 // Object 1's tracks all turn over as a new window begins: the next window finds it under new
 // landmark ids, sharing only 3 frames with the map cluster, too few to compare motions.
 int ClustersAfterAHandOver(int co_location_min_frames) {
