@@ -47,9 +47,10 @@ struct ModelAssignmentOptions {
   bool enabled = true;          ///< false: the paper's loop (re-cluster with Eq. 1 every iteration)
   double fit_threshold = 3.0;   ///< a landmark whose best cost exceeds this is an outlier
   double static_margin = 0.3;   ///< added to every other model's cost than the favoured one
-  /// [ours] The margin favours a labelled landmark's own model (ties keep the label) instead
-  /// of the static world; unlabelled landmarks' ties still go to static. false: the static
-  /// world is favoured for every landmark.
+  /// [ours] In a window started from the map (window_prior), the margin favours a labelled
+  /// landmark's own model (ties keep the label) instead of the static world; unlabelled
+  /// landmarks' ties still go to static. Cold solves (a batch run, a first window) ignore it.
+  /// false: the static world is favoured for every landmark. The outdoor preset sets it.
   bool favour_own_label = false;
   /// [ours] A moving cluster whose landmarks form groups more than this far apart (in its own
   /// frame, nothing between them) is split into one cluster per group after the final check

@@ -33,7 +33,7 @@ TSAN_TESTS=${TSAN_TESTS:-'^Pipeline\.|^WorkerPool\.|CliSignal|^CliTrackingLoss'}
 # run in the gcc and ASan suites. The whole-sequence accuracy runs on generated outdoor drives
 # (a far car once, two cars of one motion) stay out too: minutes under TSan, and their threads
 # are the ones the tests above exercise.
-TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|WarmStartedBatchClustersAsWellAsTheColdOne|WarmBatchReportsEachFarCarOfAnOutdoorDriveOnce|TwoCarsOfOneMotionInTwoPlacesAreTwoObjectsOnline|TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa)$'}
+TSAN_EXCLUDE=${TSAN_EXCLUDE-'^Pipeline\.(BatchModeGivesEveryFrameAPoseNearTheTruth|WarmStartedBatchClustersAsWellAsTheColdOne|WarmBatchReportsEachFarCarOfAnOutdoorDriveOnce|TwoCarsOfOneMotionInTwoPlacesAreTwoObjectsOnline|OnlineOutdoorRunsKeepAFarCarAlongTheLineOfSightAcrossWindows|TrueLabelsMethodKeepsTheGeneratorsLabelsAndBeatsFullBa)$'}
 TEST_TIMEOUT=${TEST_TIMEOUT:-1500}
 SUPP="$PWD/scripts/sanitizers"
 source scripts/sanitizers/build_args.sh
