@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <string>
 
 #include "backend/place_split.h"
 #include "core/errors.h"
@@ -248,6 +249,15 @@ struct MapState::Association {
 };
 
 namespace {
+
+// What a reappearance test found, for the debug log.
+std::string DescribeReappearance(const Reappearance& r) {
+  return fmt::format("back after {} frames: {:.2f} m from where it was carried ({:.2f} reachable, "
+                     "{:.2f} uncertainty), speed changed by {:.1f} m/s ({:.1f} possible, {:.1f} "
+                     "uncertainty)",
+                     r.gap_frames, r.distance_m, r.allowed_m, r.uncertainty_m, r.speed_change_mps,
+                     r.allowed_speed_change_mps, r.uncertainty_mps);
+}
 
 // Map ids of the window's labelled landmarks by window label, ascending.
 std::map<int, std::vector<int>> GroupByLabel(const MotionEstimate& window,
@@ -632,14 +642,28 @@ std::vector<Eigen::Vector3d> MapState::PointsOf(const std::vector<int>& ids) con
   return points;
 }
 
+std::map<int, std::vector<Eigen::Vector3d>> MapState::MovingClusterPoints() const {
+  std::map<int, std::vector<Eigen::Vector3d>> points;
+  for (int l : Landmarks())
+    if (const int c = ClusterOf(l); c >= 1 && clusters_.count(c)) points[c].push_back(*PositionInCluster(l));
+  return points;
+}
+
+bool MapState::ApartByGap(const std::vector<Eigen::Vector3d>& a, const Pose& a_from_b,
+                          const std::vector<Eigen::Vector3d>& b) const {
+  if (!(options_.split_gap_m > 0)) return false;
+  std::vector<Eigen::Vector3d> moved;
+  moved.reserve(b.size());
+  for (const Eigen::Vector3d& x : b) moved.push_back(a_from_b * x);
+  return SeparatedByGap(a, moved, options_.split_gap_m);
+}
+
 std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
   std::vector<std::pair<int, int>> merged;
   if (!(options_.co_location_ratio > 0)) return merged;
   for (bool again = true; again;) {
     again = false;
-    std::map<int, std::vector<Eigen::Vector3d>> points;
-    for (int l : Landmarks())
-      if (const int c = ClusterOf(l); c >= 1 && clusters_.count(c)) points[c].push_back(*PositionInCluster(l));
+    const std::map<int, std::vector<Eigen::Vector3d>> points = MovingClusterPoints();
     for (const auto& [younger, younger_points] : points) {
       // As in the windows' merge test: fewer than 3 points do not fix a body's place.
       if (younger_points.size() < 3) continue;
@@ -651,27 +675,23 @@ std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
         const CoLocation loc =
             CompareLocations(o.world_from_cluster, older_points, y.world_from_cluster, younger_points);
         if (loc.frames < options_.co_location_min_frames) continue;
+        // A hand-over: too few shared frames for the motion test, and the windows judged the
+        // place test on poses metres off.
+        const bool hand_over = loc.frames < options_.motion_min_frames;
+        if (hand_over && loc.median_ratio > options_.co_location_ratio) continue;
         const MotionAgreement offset =
             CompareMotions(o.world_from_cluster, y.world_from_cluster, younger_points, world_from_cam_);
-        if (loc.frames >= options_.motion_min_frames) {
-          // Pairs that share motion_min_frames frames were judged by the windows' motion test,
-          // on their noisy poses, and kept apart: two bodies close together, clusters that each
-          // hold parts of two, or a far car's pieces. The tracks can tell the last: one rigid
-          // motion to the motion test's tolerance, and not metres apart (the map's own merge
-          // rule, step 3). Clusters that each hold parts of two cars do not move rigidly.
-          if (offset.frames < options_.motion_min_frames ||
-              offset.relative_rms() > options_.motion_tolerance)
-            continue;
-          std::vector<Eigen::Vector3d> moved;
-          for (const Eigen::Vector3d& x : younger_points) moved.push_back(offset.a_from_b * x);
-          if (options_.split_gap_m > 0 ? SeparatedByGap(older_points, moved, options_.split_gap_m)
-                                       : loc.median_ratio > options_.co_location_ratio)
-            continue;
-        } else if (loc.median_ratio > options_.co_location_ratio) {
-          // A hand-over: too few shared frames for the motion test, and the windows judged
-          // the place test on poses metres off.
+        // Pairs that share motion_min_frames frames were judged by the windows' motion test,
+        // on their noisy poses, and kept apart: two bodies close together, clusters that each
+        // hold parts of two, or a far car's pieces. The tracks can tell the last: one rigid
+        // motion to the motion test's tolerance, and not metres apart (the map's own merge
+        // rule, step 3). Clusters that each hold parts of two cars do not move rigidly.
+        if (!hand_over && (offset.frames < options_.motion_min_frames ||
+                           offset.relative_rms() > options_.motion_tolerance ||
+                           (options_.split_gap_m > 0
+                                ? ApartByGap(older_points, offset.a_from_b, younger_points)
+                                : loc.median_ratio > options_.co_location_ratio)))
           continue;
-        }
         GetLogger("system")->debug("object {} merged into {} at the end: {} shared frames, centres "
                                    "{:.2f} of the smaller extent apart, motions {:.4f} apart",
                                    younger, older, loc.frames, loc.median_ratio, offset.relative_rms());
@@ -692,10 +712,7 @@ std::vector<std::pair<int, int>> MapState::MergeReappearedClusters(const Reappea
   for (bool again = true; again;) {
     again = false;
     // Retired landmarks too: a piece may have ended long ago.
-    std::map<int, std::vector<Eigen::Vector3d>> points;
-    for (int l : Landmarks())
-      if (const int c = ClusterOf(l); c >= 1 && clusters_.count(c))
-        points[c].push_back(*PositionInCluster(l));
+    const std::map<int, std::vector<Eigen::Vector3d>> points = MovingClusterPoints();
     // Each later piece joins the earlier one its start is best explained by; a piece that two
     // earlier bodies could both have become is left alone, since a wrong join corrupts a
     // trajectory where a missed one costs an id.
@@ -711,12 +728,9 @@ std::vector<std::pair<int, int>> MapState::MergeReappearedClusters(const Reappea
         if (!WithinGap(ac.world_from_cluster, bc.world_from_cluster, gate)) continue;
         const Reappearance r = CompareAcrossGap(ac.world_from_cluster, a_points,
                                                 bc.world_from_cluster, b_points, gate);
-        GetLogger("system")->debug(
-            "object {} as {} back after {} frames: {:.2f} m from where it was carried ({:.2f} "
-            "reachable, {:.2f} uncertainty), speed changed by {:.1f} m/s ({:.1f} possible, "
-            "{:.1f} uncertainty){}",
-            a, b, r.gap_frames, r.distance_m, r.allowed_m, r.uncertainty_m, r.speed_change_mps,
-            r.allowed_speed_change_mps, r.uncertainty_mps, r.Reachable() ? ": reachable" : "");
+        if (GetLogger("system")->should_log(spdlog::level::debug))
+          GetLogger("system")->debug("object {} as {} {}{}", a, b, DescribeReappearance(r),
+                                     r.Reachable() ? ": reachable" : "");
         if (!r.Reachable()) continue;
         ++reachable;
         if (!best || r.Score() < best->second.Score()) best.emplace(a, r);
@@ -776,13 +790,10 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
           if (older >= 1 && WithinGap(o->second.world_from_cluster, whole, gate)) {
             const Reappearance r = CompareAcrossGap(o->second.world_from_cluster,
                                                     PointsOf(older_ids), whole, points, gate);
-            if (r.compared > 0 && !r.Reachable())
-              GetLogger("system")->debug(
-                  "map cluster {} not back as {}: {:.2f} m from where it was carried ({:.2f} "
-                  "reachable, {:.2f} uncertainty), speed changed by {:.1f} m/s ({:.1f} possible, "
-                  "{:.1f} uncertainty)",
-                  older, younger, r.distance_m, r.allowed_m, r.uncertainty_m, r.speed_change_mps,
-                  r.allowed_speed_change_mps, r.uncertainty_mps);
+            if (r.compared > 0 && !r.Reachable() &&
+                GetLogger("system")->should_log(spdlog::level::debug))
+              GetLogger("system")->debug("map cluster {} not back as {}: {}", older, younger,
+                                         DescribeReappearance(r));
             if (r.Reachable() && (!reappeared || r.Score() < reappeared->second.Score()))
               reappeared.emplace(older, r);
           }
@@ -793,11 +804,9 @@ void MapState::MergeAgreeingClusters(WindowIntegration* info) {
         if (!rigid && !(older >= 1 && CoLocated(o->second, older_ids, recent, points)))
           continue;
         // One motion, but two places with nothing between: cars one behind the other.
-        if (older >= 1 && options_.split_gap_m > 0) {
-          std::vector<Eigen::Vector3d> moved;
-          for (const Eigen::Vector3d& x : points) moved.push_back(agreement.a_from_b * x);
-          if (SeparatedByGap(PointsOf(older_ids), moved, options_.split_gap_m)) continue;
-        }
+        if (older >= 1 && options_.split_gap_m > 0 &&
+            ApartByGap(PointsOf(older_ids), agreement.a_from_b, points))
+          continue;
         GetLogger("system")->debug("map cluster {} merged into {} ({} shared frames, RMS {:.3f} m, {})",
                                    younger, older, agreement.frames, agreement.rms_m,
                                    rigid ? "one rigid motion" : "in one place");

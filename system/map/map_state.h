@@ -264,6 +264,12 @@ class MapState {
   void MergeAgreeingClusters(WindowIntegration* info);
   /// The landmarks' positions in their cluster's frame.
   std::vector<Eigen::Vector3d> PointsOf(const std::vector<int>& ids) const;
+  /// Every moving cluster's landmarks in its frame, live and retired, by cluster.
+  std::map<int, std::vector<Eigen::Vector3d>> MovingClusterPoints() const;
+  /// Whether `b`, carried into a's frame by a_from_b, lies more than split_gap_m from every
+  /// point of `a` (false when the split is off).
+  bool ApartByGap(const std::vector<Eigen::Vector3d>& a, const Pose& a_from_b,
+                  const std::vector<Eigen::Vector3d>& b) const;
   /// Whether the two clusters' points occupied the same space (system/map/co_location.h).
   bool CoLocated(const MapCluster& older, const std::vector<int>& older_ids,
                  const MapCluster& younger, const std::vector<Eigen::Vector3d>& younger_points) const;
