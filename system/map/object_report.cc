@@ -27,5 +27,23 @@ int KeepReportedObjects(MapState* map, const MapStateOptions& options) {
   return static_cast<int>(released.size());
 }
 
+std::set<int> ReportedLandmarks(const MapState& map, const MapStateOptions& options) {
+  const std::set<int> reported = ReportedClusters(map, options);
+  std::set<int> landmarks;
+  for (int l : map.Landmarks())
+    if (reported.count(map.ClusterOf(l))) landmarks.insert(l);
+  return landmarks;
+}
+
+int KeepClustersHolding(MapState* map, const std::set<int>& landmarks) {
+  std::set<int> kept;
+  for (int l : landmarks) kept.insert(map->ClusterOf(l));
+  std::vector<int> released;
+  for (const auto& [id, c] : map->clusters())
+    if (!kept.count(id)) released.push_back(id);
+  for (int id : released) map->ReleaseCluster(id);
+  return static_cast<int>(released.size());
+}
+
 }  // namespace cslam
 

@@ -658,15 +658,22 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
                             supported.dropped, options.backend.motion.shape_init.min_points,
                             supported.released);
   const int candidates = static_cast<int>(out.map.clusters().size());
-  const int released = KeepReportedObjects(&out.map, options.map);
-  GetLogger("system")->info("{} of {} moving clusters reported as objects; the landmarks of the "
-                            "other {} (under {} landmarks, {} frames or {} windows) are outliers (-1)",
-                            candidates - released, candidates, released,
-                            options.map.report_min_landmarks, options.map.report_min_frames,
-                            options.map.report_min_windows);
-  // The backend's threads are idle by now: the objects' adjustments share them.
+  // The backend's threads are idle by now: the objects' adjustments share them. Every moving
+  // cluster is tracked before the report's floor applies: a far car the windows cut into
+  // fragments of a few frames each gets them back where the end-of-run merges join them to
+  // its object; what joined no reported cluster is released.
+  const std::set<int> reported_landmarks = ReportedLandmarks(out.map, options.map);
   out.object_tracks = MakeObjectTracks(&out.map, out.table, input.camera, input.timestamps,
                                        options.map.frame_period_s, options.map.track, ba.runner.get());
+  const int merged = candidates - static_cast<int>(out.map.clusters().size());
+  const int released = KeepClustersHolding(&out.map, reported_landmarks);
+  std::erase_if(out.object_tracks, [&](const auto& t) { return !out.map.clusters().count(t.first); });
+  GetLogger("system")->info("{} of {} moving clusters reported as objects ({} joined others at "
+                            "the end); the landmarks of the other {} (under {} landmarks, {} "
+                            "frames or {} windows) are outliers (-1)",
+                            candidates - merged - released, candidates, merged, released,
+                            options.map.report_min_landmarks, options.map.report_min_frames,
+                            options.map.report_min_windows);
   if (!out.object_tracks.empty()) {
     int measured = 0, rejected_positions = 0, rejected_rotations = 0, poses = 0;
     for (const auto& [id, t] : out.object_tracks) {

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "core/errors.h"
+#include "system/map/object_report.h"
 #include "tests/support/matchers.h"
 #include "tests/support/random.h"
 
@@ -430,6 +432,38 @@ TEST(MapState, PiecesSharingManyFramesAreMergedAtTheEndOnceTheirTracksMoveAsOne)
   for (int l = 30; l < 45; ++l) EXPECT_EQ(map.ClusterOf(l), 1) << l;
   EXPECT_EQ(map.ClusterOf(45), 2);  // object 2 moves otherwise
   ExpectFollows(w, map, 1, 1);
+}
+
+// The same pieces with a report floor of 8 landmarks: the piece (7) is too small to be reported
+// alone, object 1's other part (8) is not. The end-of-run merge runs before the floor and the
+// piece is reported with its object; two parts that each fall short (floor 10) are released
+// even once joined: fragments that only found each other are no established body.
+int ReleasedAfterTheEndOfRunMerge(int report_min_landmarks, std::set<int>* reported) {
+  const World w = MakeWorld(40);
+  MapStateOptions o;
+  o.report_min_landmarks = report_min_landmarks;
+  MapState map(o);
+  map.Integrate(SwingingWindow(w, {0, 30}, 6.0));
+  const int piece = map.ClusterOf(31);
+  EXPECT_NE(piece, map.ClusterOf(30));
+  const std::set<int> landmarks = ReportedLandmarks(map, o);
+  EXPECT_FALSE(landmarks.count(31));
+  map.SetTrajectory(piece, map.clusters().at(1).world_from_cluster);
+  EXPECT_EQ(map.MergeCoLocatedClusters().size(), 1u);
+  EXPECT_TRUE(ReportedClusters(map, o).count(1));  // joined, 15 landmarks pass either floor
+  const int released = KeepClustersHolding(&map, landmarks);
+  for (const auto& [id, c] : map.clusters()) reported->insert(id);
+  for (int l = 30; l < 45; ++l) EXPECT_EQ(map.ClusterOf(l), reported->count(1) ? 1 : -1) << l;
+  return released;
+}
+
+TEST(MapState, APieceTooSmallToReportAloneIsReportedWithTheObjectItJoinsAtTheEnd) {
+  std::set<int> reported;
+  EXPECT_EQ(ReleasedAfterTheEndOfRunMerge(8, &reported), 0);
+  EXPECT_EQ(reported, std::set<int>({1, 2}));
+  reported.clear();
+  EXPECT_EQ(ReleasedAfterTheEndOfRunMerge(10, &reported), 1);
+  EXPECT_EQ(reported, std::set<int>({2}));
 }
 
 // Object 1's tracks all turn over as a new window begins: the next window finds it under new
