@@ -690,8 +690,17 @@ std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
                            offset.relative_rms() > options_.motion_tolerance ||
                            (options_.split_gap_m > 0
                                 ? ApartByGap(older_points, offset.a_from_b, younger_points)
-                                : loc.median_ratio > options_.co_location_ratio)))
+                                : loc.median_ratio > options_.co_location_ratio))) {
+          if (GetLogger("system")->should_log(spdlog::level::debug))
+            GetLogger("system")->debug(
+                "object {} stays apart from {} at the end: {} shared frames, centres {:.2f} of "
+                "the smaller extent apart, motions {:.4f} apart over {} frames{}",
+                younger, older, loc.frames, loc.median_ratio, offset.relative_rms(), offset.frames,
+                options_.split_gap_m > 0 && ApartByGap(older_points, offset.a_from_b, younger_points)
+                    ? ", split_gap_m apart"
+                    : "");
           continue;
+        }
         GetLogger("system")->debug("object {} merged into {} at the end: {} shared frames, centres "
                                    "{:.2f} of the smaller extent apart, motions {:.4f} apart",
                                    younger, older, loc.frames, loc.median_ratio, offset.relative_rms());
