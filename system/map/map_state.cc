@@ -658,7 +658,11 @@ bool MapState::ApartByGap(const std::vector<Eigen::Vector3d>& a, const Pose& a_f
   return SeparatedByGap(a, moved, options_.split_gap_m);
 }
 
-std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
+std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters(
+    const std::function<double(int)>& position_sigma_m) {
+  // χ²₃ at 95 %: the squared misplacement of a point by two tracks of one body, each with a
+  // per-axis position error σ, is within 7.81 (σ_a² + σ_b²) but for one frame in twenty.
+  constexpr double kChi2For3Dof95 = 7.815;
   std::vector<std::pair<int, int>> merged;
   if (!(options_.co_location_ratio > 0)) return merged;
   for (bool again = true; again;) {
@@ -686,24 +690,35 @@ std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters() {
         // hold parts of two, or a far car's pieces. The tracks can tell the last: one rigid
         // motion to the motion test's tolerance, and not metres apart (the map's own merge
         // rule, step 3). Clusters that each hold parts of two cars do not move rigidly.
+        // One place, and one motion within the tracks' own errors: a far car's pieces whose
+        // tracks are each known to a few decimetres.
+        const double sigma2 = position_sigma_m ? std::pow(position_sigma_m(older), 2) +
+                                                     std::pow(position_sigma_m(younger), 2)
+                                               : 0.0;
+        const bool within_noise = sigma2 > 0 && loc.median_ratio <= options_.co_location_ratio &&
+                                  offset.rms_m * offset.rms_m <= kChi2For3Dof95 * sigma2;
         if (!hand_over && (offset.frames < options_.motion_min_frames ||
-                           offset.relative_rms() > options_.motion_tolerance ||
+                           (offset.relative_rms() > options_.motion_tolerance && !within_noise) ||
                            (options_.split_gap_m > 0
                                 ? ApartByGap(older_points, offset.a_from_b, younger_points)
                                 : loc.median_ratio > options_.co_location_ratio))) {
           if (GetLogger("system")->should_log(spdlog::level::debug))
             GetLogger("system")->debug(
                 "object {} stays apart from {} at the end: {} shared frames, centres {:.2f} of "
-                "the smaller extent apart, motions {:.4f} apart over {} frames{}",
+                "the smaller extent apart, motions {:.4f} apart over {} frames ({:.2f} m, tracks' "
+                "error {:.2f} m){}",
                 younger, older, loc.frames, loc.median_ratio, offset.relative_rms(), offset.frames,
+                offset.rms_m, std::sqrt(sigma2),
                 options_.split_gap_m > 0 && ApartByGap(older_points, offset.a_from_b, younger_points)
                     ? ", split_gap_m apart"
                     : "");
           continue;
         }
         GetLogger("system")->debug("object {} merged into {} at the end: {} shared frames, centres "
-                                   "{:.2f} of the smaller extent apart, motions {:.4f} apart",
-                                   younger, older, loc.frames, loc.median_ratio, offset.relative_rms());
+                                   "{:.2f} of the smaller extent apart, motions {:.4f} apart "
+                                   "({:.2f} m, tracks' error {:.2f} m)",
+                                   younger, older, loc.frames, loc.median_ratio,
+                                   offset.relative_rms(), offset.rms_m, std::sqrt(sigma2));
         MergeInto(older, younger, offset.a_from_b);
         merged.emplace_back(older, younger);
         again = true;

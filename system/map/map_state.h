@@ -6,6 +6,7 @@
 // its clusters with the map's by shared landmarks, aligns the frames and stitches the
 // trajectories. Frames: map world = the camera frame at the first integrated frame.
 // Not thread-safe: the backend thread owns it and publishes copies.
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -217,8 +218,13 @@ class MapState {
   /// more, those that move as one rigid body (motion_tolerance) and are not split_gap_m apart
   /// (a far car's pieces). Returns the (surviving, merged) pairs. For the end of a run: the
   /// windows judged both tests on their own poses, far noisier than the object tracks'
-  /// (system/map/object_tracks.h).
-  std::vector<std::pair<int, int>> MergeCoLocatedClusters();
+  /// (system/map/object_tracks.h). With `position_sigma_m` (a cluster's track's typical 1-σ
+  /// position error, m; 0 when unknown), pairs over more frames that occupy one place also
+  /// merge when their motions differ by no more than their tracks' own errors explain (χ²₃
+  /// 95 % on the RMS misplacement of the points): a relative tolerance asks 0.4 m of two
+  /// tracks 40 m away whose places are each only known to 0.4 m.
+  std::vector<std::pair<int, int>> MergeCoLocatedClusters(
+      const std::function<double(int)>& position_sigma_m = {});
   /// Merges each moving cluster that starts after another ended, within gate.max_gap_s, into
   /// it when it lies where that body could have got to (system/map/reappearance.h) and no
   /// other body could have; returns the (surviving, merged) pairs. For the end of a run, on the

@@ -449,7 +449,21 @@ std::map<int, ObjectTrack> MakeObjectTracks(MapState* map, const TrackletTable& 
       again.insert(kept);
     }
   };
-  if (options.merge_co_located) retrack(map->MergeCoLocatedClusters());
+  if (options.merge_co_located) {
+    // Each track's typical position error: the median of its states' per-axis 1 σ.
+    std::map<int, double> sigma;
+    for (const auto& [id, track] : tracks) {
+      std::vector<double> s;
+      for (const TrackState& state : track.states) s.push_back(std::sqrt(state.position_cov.trace() / 3));
+      if (s.empty()) continue;
+      std::nth_element(s.begin(), s.begin() + s.size() / 2, s.end());
+      sigma[id] = s[s.size() / 2];
+    }
+    retrack(map->MergeCoLocatedClusters([&sigma](int id) {
+      const auto it = sigma.find(id);
+      return it == sigma.end() ? 0.0 : it->second;
+    }));
+  }
   ReappearanceGate gate;
   gate.frame_period_s = frame_period_s;
   gate.max_gap_s = options.join_max_gap_s;

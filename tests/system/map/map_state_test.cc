@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -432,6 +433,33 @@ TEST(MapState, PiecesSharingManyFramesAreMergedAtTheEndOnceTheirTracksMoveAsOne)
   for (int l = 30; l < 45; ++l) EXPECT_EQ(map.ClusterOf(l), 1) << l;
   EXPECT_EQ(map.ClusterOf(45), 2);  // object 2 moves otherwise
   ExpectFollows(w, map, 1, 1);
+}
+
+// The same pieces, the piece tracked with a few decimetres of noise per frame (a far car's
+// track): more than the relative motion tolerance allows at these ranges, well within what two
+// tracks each known to 0.25 m explain, not within 0.05 m. Object 2, elsewhere and moving
+// otherwise, stays apart however large the tracks' errors.
+int MergesOfANoisyPiece(double sigma_m) {
+  const World w = MakeWorld(40);
+  MapState map;
+  map.Integrate(SwingingWindow(w, {0, 30}, 6.0));
+  const int piece = map.ClusterOf(31);
+  std::map<int, Pose> noisy = map.clusters().at(1).world_from_cluster;
+  for (auto& [f, pose] : noisy)
+    pose.translation() += 0.3 * Eigen::Vector3d(std::sin(1.7 * f), std::cos(2.3 * f), std::sin(0.9 * f));
+  map.SetTrajectory(piece, noisy);
+  const std::vector<std::pair<int, int>> merged =
+      map.MergeCoLocatedClusters([sigma_m](int) { return sigma_m; });
+  EXPECT_EQ(map.ClusterOf(45), 2);
+  for (const auto& [kept, gone] : merged) EXPECT_EQ(kept, 1) << gone;
+  return static_cast<int>(merged.size());
+}
+
+TEST(MapState, PiecesWhoseTracksDifferByNoMoreThanTheirErrorsAreMergedAtTheEnd) {
+  EXPECT_EQ(MergesOfANoisyPiece(0), 0);  // the tracks' errors unknown: the relative tolerance
+  EXPECT_EQ(MergesOfANoisyPiece(0.05), 0);
+  EXPECT_EQ(MergesOfANoisyPiece(0.25), 1);
+  EXPECT_EQ(MergesOfANoisyPiece(5.0), 1);  // object 2 still apart
 }
 
 // The same pieces with a report floor of 8 landmarks: the piece (7) is too small to be reported
