@@ -688,30 +688,27 @@ std::vector<std::pair<int, int>> MapState::MergeCoLocatedClusters(
         // Pairs that share motion_min_frames frames were judged by the windows' motion test,
         // on their noisy poses, and kept apart: two bodies close together, clusters that each
         // hold parts of two, or a far car's pieces. The tracks can tell the last: one rigid
-        // motion to the motion test's tolerance, and not metres apart (the map's own merge
-        // rule, step 3). Clusters that each hold parts of two cars do not move rigidly.
-        // One place, and one motion within the tracks' own errors: a far car's pieces whose
-        // tracks are each known to a few decimetres.
+        // motion to the motion test's tolerance, or, in one place, within the tracks' own
+        // errors; and not metres apart (the map's own merge rule, step 3). Clusters that each
+        // hold parts of two cars do not move rigidly.
         const double sigma2 = position_sigma_m ? std::pow(position_sigma_m(older), 2) +
                                                      std::pow(position_sigma_m(younger), 2)
                                                : 0.0;
         const bool within_noise = sigma2 > 0 && loc.median_ratio <= options_.co_location_ratio &&
                                   offset.rms_m * offset.rms_m <= kChi2For3Dof95 * sigma2;
-        if (!hand_over && (offset.frames < options_.motion_min_frames ||
-                           (offset.relative_rms() > options_.motion_tolerance && !within_noise) ||
-                           (options_.split_gap_m > 0
-                                ? ApartByGap(older_points, offset.a_from_b, younger_points)
-                                : loc.median_ratio > options_.co_location_ratio))) {
-          if (GetLogger("system")->should_log(spdlog::level::debug))
-            GetLogger("system")->debug(
-                "object {} stays apart from {} at the end: {} shared frames, centres {:.2f} of "
-                "the smaller extent apart, motions {:.4f} apart over {} frames ({:.2f} m, tracks' "
-                "error {:.2f} m){}",
-                younger, older, loc.frames, loc.median_ratio, offset.relative_rms(), offset.frames,
-                offset.rms_m, std::sqrt(sigma2),
-                options_.split_gap_m > 0 && ApartByGap(older_points, offset.a_from_b, younger_points)
-                    ? ", split_gap_m apart"
-                    : "");
+        const bool one_motion =
+            offset.frames >= options_.motion_min_frames &&
+            (offset.relative_rms() <= options_.motion_tolerance || within_noise);
+        const bool apart = one_motion && (options_.split_gap_m > 0
+                                              ? ApartByGap(older_points, offset.a_from_b, younger_points)
+                                              : loc.median_ratio > options_.co_location_ratio);
+        if (!hand_over && (!one_motion || apart)) {
+          GetLogger("system")->debug(
+              "object {} stays apart from {} at the end: {} shared frames, centres {:.2f} of the "
+              "smaller extent apart, motions {:.4f} apart over {} frames ({:.2f} m, tracks' error "
+              "{:.2f} m){}",
+              younger, older, loc.frames, loc.median_ratio, offset.relative_rms(), offset.frames,
+              offset.rms_m, std::sqrt(sigma2), apart ? ", in two places" : "");
           continue;
         }
         GetLogger("system")->debug("object {} merged into {} at the end: {} shared frames, centres "

@@ -18,15 +18,6 @@ std::set<int> ReportedClusters(const MapState& map, const MapStateOptions& optio
   return reported;
 }
 
-int KeepReportedObjects(MapState* map, const MapStateOptions& options) {
-  const std::set<int> reported = ReportedClusters(*map, options);
-  std::vector<int> released;
-  for (const auto& [id, c] : map->clusters())
-    if (!reported.count(id)) released.push_back(id);
-  for (int id : released) map->ReleaseCluster(id);
-  return static_cast<int>(released.size());
-}
-
 std::set<int> ReportedLandmarks(const MapState& map, const MapStateOptions& options) {
   const std::set<int> reported = ReportedClusters(map, options);
   std::set<int> landmarks;

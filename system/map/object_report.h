@@ -15,16 +15,13 @@ namespace cslam {
 /// options.report_min_windows windows (or by every window covering its frames).
 std::set<int> ReportedClusters(const MapState& map, const MapStateOptions& options);
 
-/// Releases every moving cluster of `map` that is not reported (MapState::ReleaseCluster);
-/// returns how many.
-int KeepReportedObjects(MapState* map, const MapStateOptions& options);
-
 /// The landmarks (live and retired) of the clusters ReportedClusters selects.
 std::set<int> ReportedLandmarks(const MapState& map, const MapStateOptions& options);
 
-/// Releases every moving cluster of `map` that holds none of `landmarks` (ReportedLandmarks
-/// taken before the end-of-run merges): a fragment may join an object, but fragments that only
-/// joined each other are still too little to tell a body from a coincidence. Returns how many.
+/// Releases every moving cluster of `map` that holds none of `landmarks`
+/// (MapState::ReleaseCluster; returns how many). With ReportedLandmarks taken before the
+/// end-of-run merges: a fragment may join an object, but fragments that only joined each other
+/// are still too little to tell a body from a coincidence.
 int KeepClustersHolding(MapState* map, const std::set<int>& landmarks);
 
 }  // namespace cslam

@@ -75,7 +75,7 @@ TEST(ObjectReport, TheOthersLandmarksBecomeOutliersWhereTheirClusterWasLastSeen)
   MapState map;
   map.Integrate(Window());
   MapStateOptions options;  // defaults: 5 landmarks, 10 frames
-  EXPECT_EQ(KeepReportedObjects(&map, options), 2);
+  EXPECT_EQ(KeepClustersHolding(&map, ReportedLandmarks(map, options)), 2);
   ASSERT_EQ(map.clusters().size(), 1u);
   EXPECT_EQ(map.clusters().begin()->first, 1);
   int outliers = 0;
