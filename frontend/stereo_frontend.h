@@ -15,6 +15,8 @@
 
 namespace cslam {
 
+class TaskRunner;
+
 class OptionsReader;
 class TrackletTable;
 
@@ -43,6 +45,9 @@ struct FrontendOptions {
   /// follows each camera's exposure, so the moving test does not take it as evidence of
   /// motion. Above 255 = never.
   int clipped_grey = 250;
+  /// Runs the stereo match's parts side by side (null: on the caller's thread). Not read from
+  /// YAML: system/ supplies it, since threads belong there; outputs do not depend on it.
+  std::shared_ptr<const TaskRunner> runner;
 
   void Check() const;
   /// Reads the fields and the sections detector, tracker, stereo, covariance (each finished).

@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/options_reader.h"
+#include "core/task_runner.h"
 #include "frontend/image_patch.h"
 
 namespace cslam {
@@ -256,12 +257,10 @@ cv::Ptr<cv::ORB> MakeOrb() {
                          /*edgeThreshold=*/kOrbEdge, /*firstLevel=*/0, /*WTA_K=*/2,
                          cv::ORB::HARRIS_SCORE, kOrbPatch, /*fastThreshold=*/20);
 }
-}  // namespace
 
-struct StereoMatcher::Impl {
-  cv::Ptr<cv::ORB> orb = MakeOrb();
+// The buffers of one part of a call's points (parts run side by side, each with its own).
+struct Scratch {
   CoarseSearch coarse;
-  cv::Mat left1, right1;
   std::vector<double> scores;
   std::vector<float> strip, column, other_strip;
   std::vector<int> other_peaks;  // coarse indices of the other peaks that reach min_ncc
@@ -288,6 +287,20 @@ struct StereoMatcher::Impl {
   }
 };
 
+// Points per part below which a part is not worth a thread's start.
+constexpr int kMinPointsPerPart = 64;
+// Parts per call: more than the threads, so that a part of costly points (a textured region
+// searched over the whole disparity range) does not hold back the others.
+constexpr int kMaxParts = 4;
+
+}  // namespace
+
+struct StereoMatcher::Impl {
+  cv::Ptr<cv::ORB> orb_left = MakeOrb(), orb_right = MakeOrb();
+  cv::Mat left1, right1;
+  std::vector<Scratch> parts;
+};
+
 StereoMatcher::StereoMatcher(const StereoMatcherOptions& options)
     : options_(options), impl_(std::make_unique<Impl>()) {
   options_.Check();
@@ -296,34 +309,30 @@ StereoMatcher::~StereoMatcher() = default;
 StereoMatcher::StereoMatcher(StereoMatcher&&) noexcept = default;
 StereoMatcher& StereoMatcher::operator=(StereoMatcher&&) noexcept = default;
 
-std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv::Mat& right_grey,
-                                              std::span<const cv::Point2f> left_points,
-                                              std::span<const float> prior_disparity) {
-  CSLAM_CHECK(prior_disparity.empty() || prior_disparity.size() == left_points.size(),
-              "one prior disparity per point, or none");
-  Impl& m = *impl_;
-  const StereoMatcherOptions& o = options_;
-  std::vector<StereoMatch> out(left_points.size());
-  if (left_points.empty()) return out;
-  cv::pyrDown(left_grey, m.left1);
-  cv::pyrDown(right_grey, m.right1);
+namespace {
 
+// Match's per-point search for points [begin, end): their results in `out`, and the
+// keypoints whose descriptors decide them appended to left_kp / right_kp (class_id: the point).
+void MatchPart(const cv::Mat& left_grey, const cv::Mat& right_grey, const cv::Mat& left1,
+               const cv::Mat& right1, std::span<const cv::Point2f> left_points,
+               std::span<const float> prior_disparity, const StereoMatcherOptions& o,
+               size_t begin, size_t end, Scratch& m, std::vector<StereoMatch>* out,
+               std::vector<cv::KeyPoint>* left_kp, std::vector<cv::KeyPoint>* right_kp) {
   const int ch = o.coarse_patch_px / 2;
   const int half = o.patch_px / 2;
   const int radius = o.refine_radius_px;
   const int d1_min = std::max(0, static_cast<int>(std::floor(o.min_disparity_px / 2)));
   const int d1_max = static_cast<int>(std::ceil(o.max_disparity_px / 2));
   const bool align = o.subpixel == "lk";
-  std::vector<cv::KeyPoint> left_kp, right_kp;
-  for (size_t i = 0; i < left_points.size(); ++i) {
+  for (size_t i = begin; i < end; ++i) {
     const cv::Point2f p = left_points[i];
-    StereoMatch& res = out[i];
+    StereoMatch& res = (*out)[i];
     res.status = StereoReject::kOffImage;
 
     // Coarse: every disparity of the range at half resolution (pyrDown maps x → x/2).
     const int cl = static_cast<int>(std::lround(p.x / 2)),
               row = static_cast<int>(std::lround(p.y / 2));
-    if (!(row - ch >= 0 && row + ch < m.left1.rows && cl - ch >= 0 && cl + ch < m.left1.cols))
+    if (!(row - ch >= 0 && row + ch < left1.rows && cl - ch >= 0 && cl + ch < left1.cols))
       continue;
     // A tracked point's last disparity narrows where its match can be a frame later; with
     // unique_match the rest of the range is still scored, so that another period of a
@@ -336,14 +345,14 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
       hi = std::min(d1_max, static_cast<int>(std::ceil((d + margin) / 2)));
     }
     const int c_lo = std::max(ch, cl - (o.unique_match ? d1_max : hi));
-    const int c_hi = std::min(m.right1.cols - 1 - ch, cl - (o.unique_match ? d1_min : lo));
+    const int c_hi = std::min(right1.cols - 1 - ch, cl - (o.unique_match ? d1_min : lo));
     // The candidates the best match may be chosen from: indices [k_lo, k_hi] of the scores.
     const int k_lo = std::max(c_lo, cl - hi) - c_lo, k_hi = std::min(c_hi, cl - lo) - c_lo;
     if (c_hi < c_lo || k_hi < k_lo) {
       res.status = StereoReject::kNoCandidate;
       continue;
     }
-    if (!m.coarse.Run(m.left1, m.right1, cl, row, c_lo, c_hi, o.coarse_patch_px, &m.scores)) {
+    if (!m.coarse.Run(left1, right1, cl, row, c_lo, c_hi, o.coarse_patch_px, &m.scores)) {
       res.status = StereoReject::kPhotometric;
       continue;
     }
@@ -426,16 +435,47 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
       continue;
     }
     res.status = StereoReject::kDescriptorDistance;  // until the descriptors agree
-    left_kp.emplace_back(p, static_cast<float>(kOrbPatch), 0.f, 0.f, 0, static_cast<int>(i));
-    right_kp.emplace_back(cv::Point2f(u_image, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f, 0,
+    left_kp->emplace_back(p, static_cast<float>(kOrbPatch), 0.f, 0.f, 0, static_cast<int>(i));
+    right_kp->emplace_back(cv::Point2f(u_image, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f, 0,
                           static_cast<int>(i));
   }
+}
 
+}  // namespace
+
+std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv::Mat& right_grey,
+                                              std::span<const cv::Point2f> left_points,
+                                              std::span<const float> prior_disparity,
+                                              const TaskRunner* runner) {
+  CSLAM_CHECK(prior_disparity.empty() || prior_disparity.size() == left_points.size(),
+              "one prior disparity per point, or none");
+  Impl& m = *impl_;
+  const StereoMatcherOptions& o = options_;
+  std::vector<StereoMatch> out(left_points.size());
+  if (left_points.empty()) return out;
+  cv::pyrDown(left_grey, m.left1);
+  cv::pyrDown(right_grey, m.right1);
+
+  const size_t n = left_points.size();
+  const int parts = runner ? static_cast<int>(std::clamp<size_t>(n / kMinPointsPerPart, 1, kMaxParts)) : 1;
+  if (static_cast<int>(m.parts.size()) < parts) m.parts.resize(parts);
+  std::vector<std::vector<cv::KeyPoint>> left_kps(parts), right_kps(parts);
+  RunTasks(runner, parts, [&](int j) {
+    MatchPart(left_grey, right_grey, m.left1, m.right1, left_points, prior_disparity, o,
+              n * j / parts, n * (j + 1) / parts, m.parts[j], &out, &left_kps[j], &right_kps[j]);
+  });
+  std::vector<cv::KeyPoint> left_kp = std::move(left_kps[0]), right_kp = std::move(right_kps[0]);
+  for (int j = 1; j < parts; ++j) {
+    left_kp.insert(left_kp.end(), left_kps[j].begin(), left_kps[j].end());
+    right_kp.insert(right_kp.end(), right_kps[j].begin(), right_kps[j].end());
+  }
   // Descriptor distance of the surviving matches (ORB drops keypoints too near the border).
   if (!left_kp.empty()) {
     cv::Mat left_desc, right_desc;
-    m.orb->compute(left_grey, left_kp, left_desc);
-    m.orb->compute(right_grey, right_kp, right_desc);
+    RunTasks(runner, 2, [&](int j) {
+      if (j == 0) m.orb_left->compute(left_grey, left_kp, left_desc);
+      else m.orb_right->compute(right_grey, right_kp, right_desc);
+    });
     std::vector<int> right_row(left_points.size(), -1);
     for (int k = 0; k < static_cast<int>(right_kp.size()); ++k) right_row[right_kp[k].class_id] = k;
     std::vector<char> has_left(left_points.size(), 0);

@@ -24,6 +24,8 @@
 
 namespace cslam {
 
+class TaskRunner;
+
 class OptionsReader;
 
 /// Options of StereoMatcher.
@@ -91,8 +93,9 @@ struct StereoMatch {
   bool ok() const { return status == StereoReject::kOk; }
 };
 
-/// Matches left points into the right image of a rectified pair. Holds the ORB extractor and
-/// scratch buffers; not thread-safe (one instance per thread).
+/// Matches left points into the right image of a rectified pair. Holds the ORB extractors and
+/// scratch buffers; not thread-safe (one instance per thread), but one call may spread its
+/// points over a TaskRunner's threads.
 class StereoMatcher {
  public:
   explicit StereoMatcher(const StereoMatcherOptions& options);
@@ -102,9 +105,12 @@ class StereoMatcher {
 
   /// One result per left point (same order). Images: the rectified CV_8UC1 pair.
   /// `prior_disparity` is empty or holds one value per point (px; <= 0 = no prior).
+  /// `runner` (may be null): the points are matched in contiguous parts side by side, and the
+  /// two images' descriptors computed side by side; the result does not depend on it.
   std::vector<StereoMatch> Match(const cv::Mat& left_grey, const cv::Mat& right_grey,
                                  std::span<const cv::Point2f> left_points,
-                                 std::span<const float> prior_disparity = {});
+                                 std::span<const float> prior_disparity = {},
+                                 const TaskRunner* runner = nullptr);
 
   const StereoMatcherOptions& options() const { return options_; }
 

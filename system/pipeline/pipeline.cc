@@ -632,6 +632,9 @@ PipelineResult RunPipeline(const RunInput& input, const PipelineOptions& given,
   if (options.backend_threads > 1 && !ba.runner)
     ba.runner = std::make_shared<WorkerPool>(options.backend_threads,
                                              [reservation] { reservation->JoinBackground(); });
+  if (options.frontend_threads > 1 && !options.frontend.runner)
+    options.frontend.runner = std::make_shared<WorkerPool>(
+        options.frontend_threads, [reservation] { reservation->JoinBackground(); });
   // The self-calibration wraps the backend call (system/pipeline/disparity_offset_calibration.h).
   const BackendFunction chosen =
       options.method == Method::kTrueLabels ? TrueLabelsBackend(input) : backend;

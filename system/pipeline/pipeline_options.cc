@@ -61,6 +61,7 @@ void OutputOptions::Load(OptionsReader& r) {
 
 void PipelineOptions::Check() const {
   CheckOption(backend_threads >= 1, "backend_threads", "must be >= 1", backend_threads);
+  CheckOption(frontend_threads >= 1, "frontend_threads", "must be >= 1", frontend_threads);
   CheckSection("input", [&] { input.Check(); });
   CheckSection("frontend", [&] { frontend.Check(); });
   CheckSection("backend", [&] { backend.Check(); });
@@ -93,6 +94,7 @@ void PipelineOptions::Load(OptionsReader& r) {
   if (!r.dumping() && a != ablation) ApplyAblation(a);
   r.Read("mode", kRunModeNames, &mode);
   r.Read("backend_threads", &backend_threads);
+  r.Read("frontend_threads", &frontend_threads);
   r.ReadSection("input", &input);
   r.ReadSection("frontend", &frontend);
   r.ReadSection("backend", &backend);

@@ -118,6 +118,11 @@ struct PipelineOptions {
   /// world side by side; system/runtime/worker_pool.h); 1: one after another. The estimate is the
   /// same for any value. [ours, measured in docs/experiments/2026-12-02-window-speed.md]
   int backend_threads = 2;
+  /// Threads for the frontend's stereo match (each frame's points in parts side by side, and
+  /// the two images' descriptors); 1: on the frontend's thread alone. Outputs are identical for
+  /// any value; on 2 cores it shortens the frontend, the online run's critical path
+  /// (docs/benchmarks.md).
+  int frontend_threads = 2;
   InputOptions input;
   FrontendOptions frontend;
   ClusterSlamOptions backend = ClusterSlamOptions::Outdoor();

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/errors.h"
+#include "core/task_runner.h"
 #include "tests/frontend/synthetic_images.h"
 
 namespace cslam {
@@ -351,6 +352,53 @@ TEST(StereoMatcher, DisparityOffsetShiftsOnlyTheReportedColumn) {
     EXPECT_EQ(plain[i].hamming, corrected[i].hamming);
   }
   EXPECT_GT(both, static_cast<int>(0.9 * pts.size()));
+}
+
+// Runs a batch's tasks last to first on the caller's thread: a result that depended on the
+// order of the parts, or on what a part's buffers held from the previous call, would differ.
+class ReversedRunner final : public TaskRunner {
+ public:
+  void Run(int n, const std::function<void(int)>& task) const override {
+    ++batches;
+    for (int i = n - 1; i >= 0; --i) task(i);
+  }
+  mutable int batches = 0;
+};
+
+void ExpectSameMatches(const std::vector<StereoMatch>& a, const std::vector<StereoMatch>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].status, b[i].status) << "point " << i;
+    EXPECT_EQ(a[i].u_right, b[i].u_right) << "point " << i;
+    EXPECT_EQ(a[i].row_error_px, b[i].row_error_px) << "point " << i;
+    EXPECT_EQ(a[i].ncc, b[i].ncc) << "point " << i;
+    EXPECT_EQ(a[i].curvature, b[i].curvature) << "point " << i;
+    EXPECT_EQ(a[i].hamming, b[i].hamming) << "point " << i;
+  }
+}
+
+TEST(StereoMatcher, MatchingInPartsThroughARunnerGivesTheSameMatchesAsOneThread) {
+  StereoMatcher alone{StereoMatcherOptions{}}, in_parts{StereoMatcherOptions{}};
+  const ReversedRunner runner;
+  for (uint64_t seed : {11, 12}) {
+    const Pair pair = SlantedPlane(seed);
+    const std::vector<cv::Point2f> pts = testing::TestCorners(pair.left);
+    ASSERT_GE(pts.size(), 300u);  // enough for several parts
+    // The second image's points carry priors, some of them wrong (a tracked point's last
+    // disparity), so rejections of several kinds fall in every part.
+    std::vector<float> priors;
+    if (seed == 12)
+      for (size_t i = 0; i < pts.size(); ++i)
+        priors.push_back(static_cast<float>(TrueDisparity(pts[i].y) + (i % 3 == 0 ? 9.0 : 0.0)));
+    const std::vector<StereoMatch> expected = alone.Match(pair.left, pair.right, pts, priors);
+    const int before = runner.batches;
+    ExpectSameMatches(in_parts.Match(pair.left, pair.right, pts, priors, &runner), expected);
+    EXPECT_EQ(runner.batches - before, 2) << "the points' parts, then the two descriptor sets";
+    int ok = 0;
+    for (const StereoMatch& m : expected) ok += m.ok();
+    EXPECT_GT(ok, 0);
+    EXPECT_LT(ok, static_cast<int>(expected.size()));
+  }
 }
 
 TEST(StereoMatcherOptions, CheckNamesTheBrokenField) {

@@ -75,7 +75,7 @@ TEST(PipelineOptions, AnUnknownKeyListsTheKnownKeysOfItsSection) {
             0u);
   const std::string top = LoadError("frontend: {}\npresett: indoor\n");
   EXPECT_EQ(top.rfind("config.yaml:2: presett: unknown key (known: preset, method, ablation, mode, "
-                      "backend_threads, input, frontend, backend,",
+                      "backend_threads, frontend_threads, input, frontend, backend,",
                       0),
             0u)
       << top;
@@ -120,6 +120,7 @@ INSTANTIATE_TEST_SUITE_P(
     EverySection, CheckNamesTheYamlPath,
     ::testing::Values(
         BadValue{"backend_threads", "0", [](auto& o) { o.backend_threads = 0; }},
+        BadValue{"frontend_threads", "0", [](auto& o) { o.frontend_threads = 0; }},
         BadValue{"input.max_frames", "-1", [](auto& o) { o.input.max_frames = -1; }},
         BadValue{"frontend.reinit_below_tracks", "-1",
                  [](auto& o) { o.frontend.reinit_below_tracks = -1; }},
