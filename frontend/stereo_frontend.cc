@@ -188,7 +188,8 @@ FrameSummary StereoFrontend::Process(int frame, const cv::Mat& left_grey, const 
   std::vector<float> priors(points.size(), 0.f);
   if (options_.use_disparity_prior)
     for (size_t i = 0; i < tracks.size(); ++i) priors[i] = tracks[i].disparity;
-  const std::vector<StereoMatch> matches = s.matcher.Match(left_grey, right_grey, points, priors, options_.runner.get());
+  const std::vector<StereoMatch> matches =
+      s.matcher.Match(left_grey, right_grey, points, priors, options_.runner.get());
   timer.Lap(&summary.stereo_ms, &summary.cpu_stereo_ms);
 
   // 4. Covariances and table writes. A tracked point without a stereo match ends its track:

@@ -15,9 +15,8 @@
 
 namespace cslam {
 
-class TaskRunner;
-
 class OptionsReader;
+class TaskRunner;
 class TrackletTable;
 
 /// Options of the whole frontend; each component's options are a YAML section of the same name.

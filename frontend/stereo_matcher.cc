@@ -264,6 +264,8 @@ struct Scratch {
   std::vector<double> scores;
   std::vector<float> strip, column, other_strip;
   std::vector<int> other_peaks;  // coarse indices of the other peaks that reach min_ncc
+  // The part's matches whose descriptors decide them (class_id: the point's index).
+  std::vector<cv::KeyPoint> left_kp, right_kp;
   ImagePatch patch;
   NccTemplate templ;
   SubPixelAligner aligner;
@@ -311,13 +313,15 @@ StereoMatcher& StereoMatcher::operator=(StereoMatcher&&) noexcept = default;
 
 namespace {
 
-// Match's per-point search for points [begin, end): their results in `out`, and the
-// keypoints whose descriptors decide them appended to left_kp / right_kp (class_id: the point).
+// Match's per-point search for points [begin, end): their results in `out`, and in the
+// scratch's left_kp / right_kp the keypoints whose descriptors decide them.
 void MatchPart(const cv::Mat& left_grey, const cv::Mat& right_grey, const cv::Mat& left1,
                const cv::Mat& right1, std::span<const cv::Point2f> left_points,
                std::span<const float> prior_disparity, const StereoMatcherOptions& o,
-               size_t begin, size_t end, Scratch& m, std::vector<StereoMatch>* out,
-               std::vector<cv::KeyPoint>* left_kp, std::vector<cv::KeyPoint>* right_kp) {
+               size_t begin, size_t end, Scratch* scratch, std::vector<StereoMatch>* out) {
+  Scratch& m = *scratch;
+  m.left_kp.clear();
+  m.right_kp.clear();
   const int ch = o.coarse_patch_px / 2;
   const int half = o.patch_px / 2;
   const int radius = o.refine_radius_px;
@@ -435,9 +439,9 @@ void MatchPart(const cv::Mat& left_grey, const cv::Mat& right_grey, const cv::Ma
       continue;
     }
     res.status = StereoReject::kDescriptorDistance;  // until the descriptors agree
-    left_kp->emplace_back(p, static_cast<float>(kOrbPatch), 0.f, 0.f, 0, static_cast<int>(i));
-    right_kp->emplace_back(cv::Point2f(u_image, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f, 0,
-                          static_cast<int>(i));
+    m.left_kp.emplace_back(p, static_cast<float>(kOrbPatch), 0.f, 0.f, 0, static_cast<int>(i));
+    m.right_kp.emplace_back(cv::Point2f(u_image, p.y), static_cast<float>(kOrbPatch), 0.f, 0.f,
+                            0, static_cast<int>(i));
   }
 }
 
@@ -457,17 +461,17 @@ std::vector<StereoMatch> StereoMatcher::Match(const cv::Mat& left_grey, const cv
   cv::pyrDown(right_grey, m.right1);
 
   const size_t n = left_points.size();
-  const int parts = runner ? static_cast<int>(std::clamp<size_t>(n / kMinPointsPerPart, 1, kMaxParts)) : 1;
+  const int parts =
+      runner ? static_cast<int>(std::clamp<size_t>(n / kMinPointsPerPart, 1, kMaxParts)) : 1;
   if (static_cast<int>(m.parts.size()) < parts) m.parts.resize(parts);
-  std::vector<std::vector<cv::KeyPoint>> left_kps(parts), right_kps(parts);
   RunTasks(runner, parts, [&](int j) {
     MatchPart(left_grey, right_grey, m.left1, m.right1, left_points, prior_disparity, o,
-              n * j / parts, n * (j + 1) / parts, m.parts[j], &out, &left_kps[j], &right_kps[j]);
+              n * j / parts, n * (j + 1) / parts, &m.parts[j], &out);
   });
-  std::vector<cv::KeyPoint> left_kp = std::move(left_kps[0]), right_kp = std::move(right_kps[0]);
-  for (int j = 1; j < parts; ++j) {
-    left_kp.insert(left_kp.end(), left_kps[j].begin(), left_kps[j].end());
-    right_kp.insert(right_kp.end(), right_kps[j].begin(), right_kps[j].end());
+  std::vector<cv::KeyPoint> left_kp, right_kp;
+  for (int j = 0; j < parts; ++j) {
+    left_kp.insert(left_kp.end(), m.parts[j].left_kp.begin(), m.parts[j].left_kp.end());
+    right_kp.insert(right_kp.end(), m.parts[j].right_kp.begin(), m.parts[j].right_kp.end());
   }
   // Descriptor distance of the surviving matches (ORB drops keypoints too near the border).
   if (!left_kp.empty()) {

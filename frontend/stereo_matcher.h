@@ -24,9 +24,8 @@
 
 namespace cslam {
 
-class TaskRunner;
-
 class OptionsReader;
+class TaskRunner;
 
 /// Options of StereoMatcher.
 struct StereoMatcherOptions {

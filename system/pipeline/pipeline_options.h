@@ -120,8 +120,7 @@ struct PipelineOptions {
   int backend_threads = 2;
   /// Threads for the frontend's stereo match (each frame's points in parts side by side, and
   /// the two images' descriptors); 1: on the frontend's thread alone. Outputs are identical for
-  /// any value; on 2 cores it shortens the frontend, the online run's critical path
-  /// (docs/benchmarks.md).
+  /// any value; on 2 cores it shortens the frontend, the online run's critical path.
   int frontend_threads = 2;
   InputOptions input;
   FrontendOptions frontend;
