@@ -156,27 +156,42 @@ cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& le
   return image;
 }
 
+std::vector<PictureJob> FinalPictureJobs(const RunOutputs& outputs,
+                                         const std::vector<int>& snapshot_frames,
+                                         const StereoCamera& camera, const StereoSource* images,
+                                         const std::string& render_dir) {
+  std::vector<PictureJob> jobs;
+  for (int f : snapshot_frames)
+    jobs.push_back({NumberedPngPath(render_dir, "final_snapshot", f),
+                    [&outputs, &camera, f] { return DrawFinalSnapshot(outputs, f, camera); }});
+  if (images)
+    for (const auto& entry : outputs.keypoints) {
+      const int f = entry.first;
+      jobs.push_back({NumberedPngPath(render_dir, "final_overlay", f), [&outputs, &camera, images, f] {
+                        return DrawFinalOverlay(outputs, f, images->Load(f).left, camera);
+                      }});
+    }
+  return jobs;
+}
+
 std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
                                             const std::vector<int>& snapshot_frames,
                                             const StereoCamera& camera, const StereoSource* images,
-                                            const std::string& render_dir) {
-  std::vector<std::string> failed;
-  const auto attempt = [&](const std::string& path, const std::function<cv::Mat()>& draw) {
+                                            const std::string& render_dir,
+                                            const TaskRunner* runner) {
+  const std::vector<PictureJob> jobs =
+      FinalPictureJobs(outputs, snapshot_frames, camera, images, render_dir);
+  std::vector<std::string> errors(jobs.size());
+  RunTasks(runner, static_cast<int>(jobs.size()), [&](int i) {
     try {
-      WritePng(draw(), path);
+      WritePng(jobs[i].draw(), jobs[i].path);
     } catch (const std::exception& e) {
-      failed.push_back(std::filesystem::path(path).filename().string() + ": " + e.what());
+      errors[i] = std::filesystem::path(jobs[i].path).filename().string() + ": " + e.what();
     }
-  };
-  for (int f : snapshot_frames)
-    attempt(NumberedPngPath(render_dir, "final_snapshot", f),
-            [&] { return DrawFinalSnapshot(outputs, f, camera); });
-  if (images)
-    for (const auto& entry : outputs.keypoints) {
-      const int f = entry.first;  // clang 14 captures no structured binding in a lambda
-      attempt(NumberedPngPath(render_dir, "final_overlay", f),
-              [&] { return DrawFinalOverlay(outputs, f, images->Load(f).left, camera); });
-    }
+  });
+  std::vector<std::string> failed;
+  for (std::string& e : errors)
+    if (!e.empty()) failed.push_back(std::move(e));
   return failed;
 }
 

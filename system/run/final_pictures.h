@@ -5,11 +5,13 @@
 // (render/final_overlay_NNNNNN.png) at a few frames spread over the run. Each carries its
 // frame number and a legend whose ids are those of objects/index.csv. `cslam render` draws
 // them again from the same outputs and the input recorded in cslam_outputs.json.
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
 #include "core/stereo_camera.h"
+#include "core/task_runner.h"
 #include "system/datasets/stereo_source.h"
 #include "system/draw/render_scene.h"
 #include "system/render/snapshot_renderer.h"
@@ -48,12 +50,29 @@ cv::Mat DrawFinalSnapshot(const RunOutputs& outputs, int frame, const StereoCame
 cv::Mat DrawFinalOverlay(const RunOutputs& outputs, int frame, const cv::Mat& left,
                          const StereoCamera& camera);
 
-/// Draws and writes the final snapshot of each of `snapshot_frames` and the final overlay of
-/// each frame of outputs.keypoints (`images` may be null: no overlays) into `render_dir`. A
-/// picture that fails does not stop the others; returns one line per picture not written.
+/// One picture to draw: the file it goes to and how to draw it. Jobs are independent of each
+/// other (each snapshot renders in its own offscreen context, overlays load their own image),
+/// so they may run side by side.
+struct PictureJob {
+  std::string path;
+  std::function<cv::Mat()> draw;
+};
+
+/// The final snapshot of each of `snapshot_frames` and the final overlay of each frame of
+/// outputs.keypoints (`images` may be null: no overlays), to go into `render_dir`. The jobs
+/// refer to their arguments, which must outlive them.
+std::vector<PictureJob> FinalPictureJobs(const RunOutputs& outputs,
+                                         const std::vector<int>& snapshot_frames,
+                                         const StereoCamera& camera, const StereoSource* images,
+                                         const std::string& render_dir);
+
+/// Draws and writes FinalPictureJobs(...), through `runner` when given (side by side). A
+/// picture that fails does not stop the others; returns one line per picture not written, in
+/// the jobs' order.
 std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
                                             const std::vector<int>& snapshot_frames,
                                             const StereoCamera& camera, const StereoSource* images,
-                                            const std::string& render_dir);
+                                            const std::string& render_dir,
+                                            const TaskRunner* runner = nullptr);
 
 }  // namespace cslam

@@ -1,8 +1,11 @@
 #include "system/run/run_writer.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <iomanip>
+#include <thread>
+#include <utility>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -20,6 +23,7 @@
 #include "system/run/run_outputs.h"
 #include "system/run/run_trajectory_plot.h"
 #include "system/run/view_page.h"
+#include "system/runtime/worker_pool.h"
 
 namespace cslam {
 
@@ -207,31 +211,48 @@ std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
                                           const PipelineOptions& options, const std::string& out_dir,
                                           const RunInput* input) {
   const fs::path out(out_dir);
-  std::vector<std::string> failed;
-  const auto attempt = [&](const std::string& name, const std::function<void()>& draw) {
+  // Every picture is drawn from the finished outputs alone and goes to its own file, so they
+  // are drawn side by side: nothing else runs at the end of a run, and one after another
+  // they were its slowest tail after the object tracks.
+  std::vector<std::pair<std::string, std::function<void()>>> pictures;
+  std::vector<PictureJob> finals;
+  if (input && options.output.final_pictures > 0)
+    finals = FinalPictureJobs(outputs, SpreadFrames(outputs.camera.frames, options.output.final_pictures),
+                              input->camera, input->images.get(), (out / "render").string());
+  // The slowest first (the 3-D snapshots), so that no thread is left with one at the end.
+  for (const PictureJob& job : finals)
+    if (job.path.find("final_snapshot") != std::string::npos)
+      pictures.emplace_back("render/" + fs::path(job.path).filename().string(),
+                            [&job] { WritePng(job.draw(), job.path); });
+  if (options.output.trajectory_plot) {
+    pictures.emplace_back("render/trajectory.png", [&] {
+      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
+    });
+    pictures.emplace_back("render/objects.png", [&] { WriteObjectTrackPlot(outputs, out_dir); });
+  }
+  for (const PictureJob& job : finals)
+    if (job.path.find("final_snapshot") == std::string::npos)
+      pictures.emplace_back("render/" + fs::path(job.path).filename().string(),
+                            [&job] { WritePng(job.draw(), job.path); });
+  if (options.output.trajectory_plot)
+    pictures.emplace_back("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
+  if (options.output.view_page) pictures.emplace_back("view.html", [&] { WriteViewPage(outputs, out_dir); });
+
+  std::vector<std::string> errors(pictures.size());
+  const WorkerPool pool(static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 4u)));
+  pool.Run(static_cast<int>(pictures.size()), [&](int i) {
+    const auto& [name, draw] = pictures[i];
     try {
       const Timer timer;
       draw();
       GetLogger("system")->debug("{} drawn in {:.3f} s", name, timer.ElapsedS());
     } catch (const std::exception& e) {
-      failed.push_back(name + ": " + e.what());
+      errors[i] = name + ": " + e.what();
     }
-  };
-  if (options.output.trajectory_plot) {
-    attempt("render/trajectory.png", [&] {
-      WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
-    });
-    attempt("render/objects.png", [&] { WriteObjectTrackPlot(outputs, out_dir); });
-    attempt("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
-  }
-  if (options.output.view_page)
-    attempt("view.html", [&] { WriteViewPage(outputs, out_dir); });
-  if (input && options.output.final_pictures > 0) {
-    for (const std::string& f :
-         WriteFinalPictures(outputs, SpreadFrames(outputs.camera.frames, options.output.final_pictures),
-                            input->camera, input->images.get(), (out / "render").string()))
-      failed.push_back("render/" + f);
-  }
+  });
+  std::vector<std::string> failed;
+  for (std::string& e : errors)
+    if (!e.empty()) failed.push_back(std::move(e));
   return failed;
 }
 
