@@ -177,21 +177,15 @@ std::vector<PictureJob> FinalPictureJobs(const RunOutputs& outputs,
 std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
                                             const std::vector<int>& snapshot_frames,
                                             const StereoCamera& camera, const StereoSource* images,
-                                            const std::string& render_dir,
-                                            const TaskRunner* runner) {
-  const std::vector<PictureJob> jobs =
-      FinalPictureJobs(outputs, snapshot_frames, camera, images, render_dir);
-  std::vector<std::string> errors(jobs.size());
-  RunTasks(runner, static_cast<int>(jobs.size()), [&](int i) {
-    try {
-      WritePng(jobs[i].draw(), jobs[i].path);
-    } catch (const std::exception& e) {
-      errors[i] = std::filesystem::path(jobs[i].path).filename().string() + ": " + e.what();
-    }
-  });
+                                            const std::string& render_dir) {
   std::vector<std::string> failed;
-  for (std::string& e : errors)
-    if (!e.empty()) failed.push_back(std::move(e));
+  for (const PictureJob& job : FinalPictureJobs(outputs, snapshot_frames, camera, images, render_dir)) {
+    try {
+      WritePng(job.draw(), job.path);
+    } catch (const std::exception& e) {
+      failed.push_back(std::filesystem::path(job.path).filename().string() + ": " + e.what());
+    }
+  }
   return failed;
 }
 

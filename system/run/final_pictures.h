@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "core/stereo_camera.h"
-#include "core/task_runner.h"
 #include "system/datasets/stereo_source.h"
 #include "system/draw/render_scene.h"
 #include "system/render/snapshot_renderer.h"
@@ -58,21 +57,19 @@ struct PictureJob {
   std::function<cv::Mat()> draw;
 };
 
-/// The final snapshot of each of `snapshot_frames` and the final overlay of each frame of
-/// outputs.keypoints (`images` may be null: no overlays), to go into `render_dir`. The jobs
-/// refer to their arguments, which must outlive them.
+/// The final snapshot of each of `snapshot_frames` (the first snapshot_frames.size() jobs) and
+/// the final overlay of each frame of outputs.keypoints (`images` may be null: no overlays), to
+/// go into `render_dir`. The jobs refer to their arguments, which must outlive them.
 std::vector<PictureJob> FinalPictureJobs(const RunOutputs& outputs,
                                          const std::vector<int>& snapshot_frames,
                                          const StereoCamera& camera, const StereoSource* images,
                                          const std::string& render_dir);
 
-/// Draws and writes FinalPictureJobs(...), through `runner` when given (side by side). A
-/// picture that fails does not stop the others; returns one line per picture not written, in
-/// the jobs' order.
+/// Draws and writes FinalPictureJobs(...) one after another. A picture that fails does not stop
+/// the others; returns one line per picture not written.
 std::vector<std::string> WriteFinalPictures(const RunOutputs& outputs,
                                             const std::vector<int>& snapshot_frames,
                                             const StereoCamera& camera, const StereoSource* images,
-                                            const std::string& render_dir,
-                                            const TaskRunner* runner = nullptr);
+                                            const std::string& render_dir);
 
 }  // namespace cslam

@@ -216,24 +216,25 @@ std::vector<std::string> WriteRunPictures(const RunOutputs& outputs,
   // they were its slowest tail after the object tracks.
   std::vector<std::pair<std::string, std::function<void()>>> pictures;
   std::vector<PictureJob> finals;
-  if (input && options.output.final_pictures > 0)
-    finals = FinalPictureJobs(outputs, SpreadFrames(outputs.camera.frames, options.output.final_pictures),
-                              input->camera, input->images.get(), (out / "render").string());
+  size_t snapshots = 0;  // the first jobs of `finals`
+  if (input && options.output.final_pictures > 0) {
+    const std::vector<int> frames = SpreadFrames(outputs.camera.frames, options.output.final_pictures);
+    snapshots = frames.size();
+    finals = FinalPictureJobs(outputs, frames, input->camera, input->images.get(), (out / "render").string());
+  }
+  const auto add_final = [&](const PictureJob& job) {
+    pictures.emplace_back("render/" + fs::path(job.path).filename().string(),
+                          [&job] { WritePng(job.draw(), job.path); });
+  };
   // The slowest first (the 3-D snapshots), so that no thread is left with one at the end.
-  for (const PictureJob& job : finals)
-    if (job.path.find("final_snapshot") != std::string::npos)
-      pictures.emplace_back("render/" + fs::path(job.path).filename().string(),
-                            [&job] { WritePng(job.draw(), job.path); });
+  for (size_t i = 0; i < snapshots; ++i) add_final(finals[i]);
   if (options.output.trajectory_plot) {
     pictures.emplace_back("render/trajectory.png", [&] {
       WritePng(RenderRunTrajectoryPlot(outputs), (out / "render" / "trajectory.png").string());
     });
     pictures.emplace_back("render/objects.png", [&] { WriteObjectTrackPlot(outputs, out_dir); });
   }
-  for (const PictureJob& job : finals)
-    if (job.path.find("final_snapshot") == std::string::npos)
-      pictures.emplace_back("render/" + fs::path(job.path).filename().string(),
-                            [&job] { WritePng(job.draw(), job.path); });
+  for (size_t i = snapshots; i < finals.size(); ++i) add_final(finals[i]);
   if (options.output.trajectory_plot)
     pictures.emplace_back("render/resources.png", [&] { WriteResourceChart(resources, out_dir); });
   if (options.output.view_page) pictures.emplace_back("view.html", [&] { WriteViewPage(outputs, out_dir); });
